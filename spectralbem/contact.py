@@ -1,0 +1,363 @@
+"""Adhesiveless contact: non-penetration g ≥ 0, p ≥ 0, p·g = 0 (the seed's closure without
+adhesion: σ = 0 at ∂Ω).
+
+* Symmetric operator (elastic, or v = 0): Polonsky & Keer (1999) constrained conjugate
+  gradients, under mean-pressure or penetration control.  The displacement is updated
+  incrementally (u ← u - τ C t) and recomputed from p only when the active set changes, so a
+  converging iteration costs one FFT pair.
+* Viscoelastic steady sliding (non-symmetric C): active set on the contact mask with the masked
+  Krylov solver of :mod:`spectralbem.masked` — cells with p < 0 leave, cells with g < 0 join —
+  started from the elastic solution with the symmetric part of the kernel.  The LCP is uniquely
+  solvable because P C P has a positive-definite symmetric part (criterion.md §3.1).
+
+Outputs (:class:`ContactResult`): pressure p (Pa), displacement u (m, into the slab), gap g (m),
+mask, mean pressure p̄, penetration Δ (mean-level gauge for the half-space), contact area
+fraction, and the friction coefficient of seed Eq. (19) generalised to 2D::
+
+    μ = -(1/(A0 p̄)) ∫ p (v̂·∇h) d²x          (force component opposing the sliding)
+    μ_⊥ = -(1/(A0 p̄)) ∫ p (v̂⊥·∇h) d²x       (lateral force, v̂⊥ = ẑ × v̂)
+
+with the exact spectral gradient of the rigid profile, cross-checked by the spectral dissipation
+form (physics.md §4.2).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .masked import solve_masked
+from .spectral import SpectralOperator
+
+
+class ContactError(ValueError):
+    """Invalid control parameter for a contact solve."""
+
+
+@dataclass
+class ContactResult:
+    pressure: np.ndarray
+    displacement: np.ndarray
+    gap: np.ndarray
+    mask: np.ndarray
+    mean_pressure: float
+    penetration: float
+    area_fraction: float
+    mu: float
+    mu_dissipation: float
+    mu_lateral: float
+    iterations: int
+    converged: bool
+    message: str
+    method: str
+    diagnostics: dict = field(default_factory=dict)
+
+    @property
+    def full_contact(self) -> bool:
+        return bool(np.all(self.mask))
+
+
+def sliding_direction(op: SpectralOperator) -> np.ndarray:
+    """Unit vector of the sliding velocity (x̂ when v = 0)."""
+    v = op.velocity
+    n = np.hypot(*v)
+    return np.array([1.0, 0.0]) if n == 0 else v / n
+
+
+def friction(op: SpectralOperator, heights: np.ndarray, p: np.ndarray):
+    """(μ, μ_⊥, μ_dissipation) of a pressure field: generalised Eq. (19) and physics.md §4.2."""
+    cell = op.cell
+    vhat = sliding_direction(op)
+    vperp = np.array([-vhat[1], vhat[0]])
+    total = float(np.sum(p)) * cell.cell_area
+    if total == 0.0:
+        return 0.0, 0.0, 0.0
+    fx = -float(np.sum(p * cell.derivative(heights, vhat))) * cell.cell_area
+    fy = -float(np.sum(p * cell.derivative(heights, vperp))) * cell.cell_area
+    fd = op.dissipation_friction_force(p, vhat)
+    return fx / total, fy / total, fd / total
+
+
+def _check_controls(heights, op, mean_pressure, penetration):
+    h = np.asarray(heights, dtype=float)
+    if h.shape != op.cell.shape:
+        raise ContactError(f"heights have shape {h.shape}, the grid is {op.cell.shape}")
+    if not np.all(np.isfinite(h)):
+        raise ContactError("heights contain NaN or inf")
+    if (mean_pressure is None) == (penetration is None):
+        raise ContactError("give exactly one of mean_pressure (load control) and penetration")
+    if mean_pressure is not None:
+        mp = float(mean_pressure)
+        if not np.isfinite(mp) or mp <= 0:
+            raise ContactError(
+                f"mean_pressure = {mp!r} must be > 0 for adhesiveless contact (allowed (0, inf))")
+    if penetration is not None and not np.isfinite(float(penetration)):
+        raise ContactError(f"penetration = {penetration!r} must be finite")
+    return h
+
+
+def _full_contact(op, h, mean_pressure=None, penetration=None):
+    """Exact full-contact solution: u = w everywhere, solved mode by mode."""
+    cell = op.cell
+    hmax = float(h.max())
+    K = op.kernel
+    H = np.fft.rfft2(h)
+    P = np.zeros_like(H, dtype=complex)
+    nz = K != 0
+    P[nz] = H[nz] / K[nz]
+    c0 = K[0, 0].real
+    n = cell.Nx * cell.Ny
+    if mean_pressure is not None:
+        # mean(w) = c0 p̄ fixes Δ (c0 = 0: the zero-mean gauge)
+        P[0, 0] = mean_pressure * n
+        delta = c0 * mean_pressure - float(h.mean()) + hmax
+    else:
+        if c0 == 0:
+            return None  # the half-space cannot reach full contact at an arbitrary Δ
+        delta = penetration
+        P[0, 0] = (float(h.mean()) - hmax + delta) / c0 * n
+    p = np.fft.irfft2(P, s=cell.shape)
+    return p, delta
+
+
+def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetration=None,
+                  tol: float = 1e-10, maxiter: int = 10000, p0=None, refresh: int = 64):
+    """Constrained CG of Polonsky & Keer (1999) for a symmetric operator.
+
+    Returns (p, u, delta, iterations, converged, message, fft_pairs).  The error measure is the
+    complementarity ``Σ p|g| / (Σ p · (max h - min h))`` plus the absence of overlap
+    (g < 0 where p = 0, relative to the height range).
+    """
+    if not op.symmetric:
+        raise ContactError("polonsky_keer needs a symmetric operator (elastic or v = 0)")
+    h = np.asarray(heights, dtype=float)
+    cell = op.cell
+    n = cell.Nx * cell.Ny
+    hmax = float(h.max())
+    hrange = max(float(h.max() - h.min()), np.finfo(float).tiny)
+    load = mean_pressure is not None
+    if load:
+        target = float(mean_pressure)
+        p = np.full(cell.shape, target) if p0 is None else np.maximum(np.asarray(p0, float), 0)
+        if p.sum() <= 0:
+            p = np.full(cell.shape, target)
+        p *= target * n / p.sum()
+        w = h - hmax
+    else:
+        w = h - hmax + float(penetration)
+        p = np.maximum(w, 0.0) if p0 is None else np.maximum(np.asarray(p0, float), 0)
+        if not np.any(p > 0):
+            p = np.zeros(cell.shape)
+            p.flat[np.argmax(h)] = 1.0
+            p *= hrange / max(float(op.apply(p).max()), 1e-300)
+    u = op.apply(p)
+    pairs = 1
+    t = np.zeros(cell.shape)
+    r = np.empty(cell.shape)
+    delta_flag = 0.0
+    G_old = 1.0
+    err = np.inf
+    gbar = 0.0
+    message = ""
+    converged = False
+    it = 0
+    for it in range(1, maxiter + 1):
+        g = u - w
+        Ic = p > 0
+        if not np.any(Ic):
+            message = "no contact: the indenter does not reach the surface"
+            converged = True
+            break
+        if load:
+            gbar = float(g[Ic].mean())
+            g -= gbar
+        G = float(np.dot(g[Ic], g[Ic]))
+        np.multiply(t, delta_flag * G / G_old if G_old > 0 else 0.0, out=t)
+        t[Ic] += g[Ic]
+        t[~Ic] = 0.0
+        G_old = G
+        op.apply(t, out=r)
+        pairs += 1
+        rbar = float(r[Ic].mean()) if load else 0.0
+        denom = float(np.dot(r[Ic] - rbar, t[Ic]))
+        if denom <= 0 or not np.isfinite(denom):
+            # converged to round-off (t ≈ 0) or lost positivity
+            err = float(np.sum(p * np.abs(g)) / (np.sum(p) * hrange))
+            converged = err < tol and not np.any((p == 0) & (g < -tol * hrange))
+            message = "converged" if converged else f"search direction degenerate at iteration {it}"
+            break
+        tau = float(np.dot(g[Ic], t[Ic])) / denom
+        p_trial = p - tau * t
+        p_new = np.maximum(p_trial, 0.0)
+        overlap = (p_new == 0) & (g < 0)
+        if np.any(overlap):
+            delta_flag = 0.0
+            p_new[overlap] -= tau * g[overlap]
+        else:
+            delta_flag = 1.0
+        corr = p_new - p_trial  # non-zero only where the active set changed
+        changed = bool(np.any(corr != 0))
+        scale = target * n / float(p_new.sum()) if load else 1.0
+        if not np.isfinite(scale) or scale <= 0:
+            message = "pressure collapsed to zero (load cannot be carried)"
+            break
+        # u_new = scale·(u - τ C t + C corr): exact by linearity
+        if changed or it % refresh == 0:
+            p = p_new * scale
+            op.apply(p, out=u)
+            pairs += 1
+        else:
+            u -= tau * r
+            u *= scale
+            p = p_new * scale
+        g = u - w
+        Ic = p > 0
+        if load and np.any(Ic):
+            gbar = float(g[Ic].mean())
+            g -= gbar
+        err = float(np.sum(p * np.abs(g)) / (np.sum(p) * hrange))
+        if not np.isfinite(err):
+            message = f"non-finite error at iteration {it}"
+            break
+        if err < tol and not np.any((p == 0) & (g < -tol * hrange)):
+            converged = True
+            message = "converged"
+            break
+    else:
+        message = f"not converged in {maxiter} iterations (error {err:.3e} > tol {tol:.1e})"
+    delta = gbar if load else float(penetration)
+    return p, u, delta, it, converged, message, pairs
+
+
+def active_set(op: SpectralOperator, heights, *, mean_pressure=None, penetration=None,
+               tol: float = 1e-10, max_outer: int = 200, mask0=None, p0=None):
+    """Active-set LCP solver with masked Krylov solves (any operator, used when non-symmetric).
+
+    Returns (p, u, delta, mask, iterations, converged, message, outer).
+    """
+    h = np.asarray(heights, dtype=float)
+    cell = op.cell
+    n = cell.Nx * cell.Ny
+    hmax = float(h.max())
+    hrange = max(float(h.max() - h.min()), np.finfo(float).tiny)
+    load = mean_pressure is not None
+    if mask0 is None:
+        # start from the elastic solution of the symmetric part of the kernel
+        from .materials import Elastic
+
+        sym = SpectralOperator(cell, Elastic(op.material.E0, op.material.nu), op.layer,
+                               (0.0, 0.0), op.threads)
+        p_e, *_ = polonsky_keer(sym, h, mean_pressure=mean_pressure, penetration=penetration,
+                                tol=1e-6, maxiter=2000)
+        mask = p_e > 0
+        p = p_e
+    else:
+        mask = np.asarray(mask0, dtype=bool).copy()
+        p = np.zeros(cell.shape) if p0 is None else np.asarray(p0, float)
+    if not np.any(mask):
+        mask.flat[np.argmax(h)] = True
+    seen = set()
+    iterations = 0
+    p1 = p2 = None
+    delta = float(penetration) if not load else 0.0
+    message = ""
+    converged = False
+    outer = 0
+    for outer in range(1, max_outer + 1):
+        if np.all(mask):
+            full = _full_contact(op, h, mean_pressure, penetration)
+            if full is not None:
+                p, delta = full
+                if np.all(p >= 0):
+                    converged, message = True, "full contact"
+                    u = op.apply(p)
+                    return p, u, delta, mask, iterations, converged, message, outer
+                mask = p > 0
+                continue
+        if load:
+            # p = p1 + Δ p2 with C_AA p1 = (h - hmax)_A, C_AA p2 = 1_A, mean(p) = p̄
+            r1 = solve_masked(op, mask, h - hmax, x0=p1, rtol=tol)
+            r2 = solve_masked(op, mask, np.ones(cell.shape), x0=p2, rtol=tol)
+            iterations += r1.iterations + r2.iterations
+            if not (r1.converged and r2.converged):
+                message = "masked solve: " + (r1.message if not r1.converged else r2.message)
+                break
+            p1, p2 = r1.field, r2.field
+            s2 = float(p2.sum())
+            if s2 == 0:
+                message = "degenerate mask: unit-displacement solve has zero resultant"
+                break
+            delta_rel = (mean_pressure * n - float(p1.sum())) / s2
+            p = p1 + delta_rel * p2
+            delta = delta_rel
+        else:
+            w = h - hmax + delta
+            res = solve_masked(op, mask, w, x0=p, rtol=tol)
+            iterations += res.iterations
+            if not res.converged:
+                message = "masked solve: " + res.message
+                break
+            p = res.field
+        u = op.apply(p)
+        g = u - (h - hmax + delta)
+        remove = mask & (p < 0)
+        add = ~mask & (g < -tol * hrange)
+        if not remove.any() and not add.any():
+            converged, message = True, "converged"
+            break
+        key = hash(mask.tobytes())
+        if key in seen:
+            # cycling: move only the worst offenders to break the cycle
+            if remove.any():
+                worst = np.argmin(np.where(remove, p, np.inf))
+                remove = np.zeros_like(mask)
+                remove.flat[worst] = True
+            if add.any():
+                worst = np.argmin(np.where(add, g, np.inf))
+                add = np.zeros_like(mask)
+                add.flat[worst] = True
+        seen.add(key)
+        mask = (mask & ~remove) | add
+        if not np.any(mask):
+            message = "contact vanished: no cell carries compressive pressure"
+            break
+    else:
+        message = f"active set not converged in {max_outer} outer iterations"
+    u = op.apply(p)
+    return p, u, delta, mask, iterations, converged, message, outer
+
+
+def solve_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetration=None,
+                  tol: float = 1e-10, maxiter: int = 10000, p0=None,
+                  mask0=None) -> ContactResult:
+    """Adhesiveless contact of the rigid profile ``heights`` under load or penetration control."""
+    h = _check_controls(heights, op, mean_pressure, penetration)
+    cell = op.cell
+    hmax = float(h.max())
+    if op.symmetric:
+        p, u, delta, its, conv, msg, pairs = polonsky_keer(
+            op, h, mean_pressure=mean_pressure, penetration=penetration, tol=tol,
+            maxiter=maxiter, p0=p0)
+        mask = p > 0
+        method = "polonsky-keer"
+        diag = {"fft_pairs": pairs}
+    else:
+        p, u, delta, mask, its, conv, msg, outer = active_set(
+            op, h, mean_pressure=mean_pressure, penetration=penetration, tol=tol,
+            mask0=mask0, p0=p0)
+        method = "active-set"
+        diag = {"outer_iterations": outer}
+    if not (np.all(np.isfinite(p)) and np.all(np.isfinite(u))):
+        conv = False
+        msg = "non-finite pressure or displacement: " + msg
+        p = np.nan_to_num(p)
+        u = np.nan_to_num(u)
+    gap = u - (h - hmax + delta)
+    gap[mask] = 0.0
+    mu, mu_lat, mu_d = friction(op, h, p)
+    return ContactResult(
+        pressure=p, displacement=u, gap=gap, mask=mask, mean_pressure=float(p.mean()),
+        penetration=float(delta), area_fraction=float(mask.mean()), mu=mu, mu_dissipation=mu_d,
+        mu_lateral=mu_lat, iterations=int(its), converged=bool(conv), message=msg,
+        method=method, diagnostics=diag)

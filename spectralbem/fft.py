@@ -1,0 +1,116 @@
+"""Planned real 2D FFTs: pyFFTW (FFTW_MEASURE plans cached per shape and thread count) with a
+numpy fallback.
+
+The spatial kernel is real, so only real-to-complex (r2c) and complex-to-real (c2r) transforms
+are used: a field of shape (Nx, Ny) maps to a half spectrum of shape (Nx, Ny//2 + 1).  The
+inverse is *unnormalised* (FFTW's convention); the spectral operator folds the 1/(Nx Ny) into
+its kernel, so one operator application is exactly one forward and one inverse transform.
+
+Configuration: ``set_threads(n)`` (default 1), environment variable ``SPECTRALBEM_FFT=numpy``
+to force the fallback, ``backend()`` tells which is in use.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+
+import numpy as np
+
+try:  # pragma: no cover - exercised through backend()
+    import pyfftw
+
+    _HAVE_PYFFTW = os.environ.get("SPECTRALBEM_FFT", "").lower() != "numpy"
+except ImportError:  # pragma: no cover
+    pyfftw = None
+    _HAVE_PYFFTW = False
+
+_THREADS = 1
+_PLANS: dict = {}
+_LOCK = threading.Lock()
+
+
+def backend() -> str:
+    """'pyfftw' or 'numpy'."""
+    return "pyfftw" if _HAVE_PYFFTW else "numpy"
+
+
+def set_threads(n: int) -> None:
+    """Number of FFT threads for plans created from now on (default 1)."""
+    global _THREADS
+    n = int(n)
+    if n < 1:
+        raise ValueError(f"threads = {n} must be >= 1")
+    _THREADS = n
+
+
+def get_threads() -> int:
+    return _THREADS
+
+
+class RealFFT2:
+    """Forward r2c / unnormalised inverse c2r pair for one real shape.
+
+    ``forward(x)`` and ``inverse(X)`` return views of internal buffers that the next call of the
+    same direction overwrites: copy them if they must persist.
+    """
+
+    def __init__(self, shape, threads: int = 1, use_fftw: bool = _HAVE_PYFFTW):
+        self.shape = tuple(int(n) for n in shape)
+        self.hshape = (self.shape[0], self.shape[1] // 2 + 1)
+        self.threads = threads
+        self.use_fftw = use_fftw
+        if use_fftw:
+            flags = ("FFTW_MEASURE", "FFTW_DESTROY_INPUT")
+            self._rin = pyfftw.empty_aligned(self.shape, dtype="float64")
+            self._cout = pyfftw.empty_aligned(self.hshape, dtype="complex128")
+            self._cin = pyfftw.empty_aligned(self.hshape, dtype="complex128")
+            self._rout = pyfftw.empty_aligned(self.shape, dtype="float64")
+            self._fwd = pyfftw.FFTW(self._rin, self._cout, axes=(0, 1), direction="FFTW_FORWARD",
+                                    flags=flags, threads=threads)
+            self._bwd = pyfftw.FFTW(self._cin, self._rout, axes=(0, 1),
+                                    direction="FFTW_BACKWARD", flags=flags, threads=threads)
+
+    # -- transforms -------------------------------------------------------------------------
+    def forward(self, x: np.ndarray) -> np.ndarray:
+        if self.use_fftw:
+            self._rin[...] = x
+            self._fwd.execute()
+            return self._cout
+        return np.fft.rfft2(x)
+
+    @property
+    def spectrum_buffer(self) -> np.ndarray:
+        """Input buffer of the inverse transform (write a spectrum here, then ``inverse_buffer``)."""
+        if self.use_fftw:
+            return self._cin
+        if not hasattr(self, "_cin"):
+            self._cin = np.empty(self.hshape, dtype=np.complex128)
+        return self._cin
+
+    def inverse_buffer(self) -> np.ndarray:
+        """Unnormalised c2r of :attr:`spectrum_buffer` (destroys it)."""
+        if self.use_fftw:
+            self._bwd.execute()
+            return self._rout
+        return np.fft.irfft2(self._cin, s=self.shape) * (self.shape[0] * self.shape[1])
+
+    def inverse(self, X: np.ndarray) -> np.ndarray:
+        """Unnormalised c2r transform: ``inverse(forward(x)) == Nx*Ny*x``."""
+        self.spectrum_buffer[...] = X
+        return self.inverse_buffer()
+
+
+def plan(shape, threads: int | None = None) -> RealFFT2:
+    """The cached transform pair for ``shape`` (planned once per shape and thread count).
+
+    Plans are per thread of the caller too, because their buffers are not shareable.
+    """
+    threads = _THREADS if threads is None else int(threads)
+    key = (tuple(shape), threads, _HAVE_PYFFTW, threading.get_ident())
+    with _LOCK:
+        p = _PLANS.get(key)
+        if p is None:
+            p = RealFFT2(shape, threads)
+            _PLANS[key] = p
+    return p

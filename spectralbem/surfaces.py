@@ -1,0 +1,120 @@
+"""Rigid indenter profiles h(x, y) on a periodic cell (m).
+
+Convention: ``h`` is the height of the rigid surface *toward the slab*: its maximum is the first
+point to touch, and the displacement prescribed in contact is ``w = h - max(h) + Δ``
+(seed: ``u(x) = Λ cos(kx) - Λ + Δ``).  The gap is ``g = u - w ≥ 0``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .spectral import Cell
+
+
+class SurfaceError(ValueError):
+    """Invalid surface parameter or file."""
+
+
+def _finite_positive(name, v):
+    v = float(v)
+    if not np.isfinite(v) or v <= 0:
+        raise SurfaceError(f"{name} = {v!r} must be a finite number > 0")
+    return v
+
+
+def sinusoid(cell: Cell, amplitude: float, wavelength: float | None = None) -> np.ndarray:
+    """1D sinusoid ``h = Λ cos(k x)`` invariant along y (the seed's Fig. 2 profile).
+
+    The summit sits at x = 0 (array index 0); ``wavelength`` defaults to ``Lx`` and must divide
+    it.
+    """
+    amplitude = _finite_positive("amplitude", amplitude)
+    lam = cell.Lx if wavelength is None else _finite_positive("wavelength", wavelength)
+    n = cell.Lx / lam
+    if abs(n - round(n)) > 1e-9 or round(n) < 1:
+        raise SurfaceError(f"wavelength = {lam!r} must divide Lx = {cell.Lx!r} a whole number of times")
+    X, _ = cell.coordinates()
+    return amplitude * np.cos(2 * np.pi * X / lam)
+
+
+def bisinusoid(cell: Cell, amplitude: float) -> np.ndarray:
+    """``h = Λ cos(2πx/Lx) cos(2πy/Ly)``: one egg-box summit per cell, at the origin."""
+    amplitude = _finite_positive("amplitude", amplitude)
+    X, Y = cell.coordinates()
+    return amplitude * np.cos(2 * np.pi * X / cell.Lx) * np.cos(2 * np.pi * Y / cell.Ly)
+
+
+def paraboloid(cell: Cell, radius: float) -> np.ndarray:
+    """Sphere of radius R in the paraboloid approximation, summit at the cell centre.
+
+    ``h = -r²/(2R)`` with r measured from the centre (Nx/2, Ny/2).
+    """
+    radius = _finite_positive("radius", radius)
+    X, Y = cell.coordinates()
+    r2 = (X - cell.Nx // 2 * cell.hx) ** 2 + (Y - cell.Ny // 2 * cell.hy) ** 2
+    return -r2 / (2 * radius)
+
+
+def self_affine(cell: Cell, hurst: float, *, rolloff: float, cutoff: float,
+                rms_height: float | None = None, rms_slope: float | None = None,
+                seed: int = 0) -> np.ndarray:
+    """Gaussian self-affine random surface with a roll-off.
+
+    Power spectrum C(q) ∝ 1 for q0 ≤ q < q_r, ∝ (q/q_r)^{-2(1+H)} for q_r ≤ q ≤ q_s, 0 above q_s;
+    random phases from ``numpy.random.default_rng(seed)``.  ``rolloff`` and ``cutoff`` are the
+    wavevectors q_r < q_s (rad/m).  Exactly one of ``rms_height`` / ``rms_slope`` sets the scale
+    (slope = rms of |∇h| computed spectrally).
+    """
+    if not (0.0 < hurst < 1.0):
+        raise SurfaceError(f"hurst = {hurst!r} must lie in (0, 1)")
+    rolloff = _finite_positive("rolloff", rolloff)
+    cutoff = _finite_positive("cutoff", cutoff)
+    if cutoff <= rolloff:
+        raise SurfaceError(f"cutoff = {cutoff!r} must exceed rolloff = {rolloff!r}")
+    if (rms_height is None) == (rms_slope is None):
+        raise SurfaceError("give exactly one of rms_height, rms_slope")
+    qx, qy = cell.wavevectors(half=True)
+    q = np.hypot(qx, qy)
+    psd = np.where(q < rolloff, 1.0, (np.maximum(q, rolloff) / rolloff) ** (-2 * (1 + hurst)))
+    psd = np.where((q > cutoff) | (q == 0), 0.0, psd)
+    if not np.any(psd > 0):
+        raise SurfaceError("no wavevector of the grid lies between the cell size and the cutoff")
+    rng = np.random.default_rng(seed)
+    phase = np.exp(2j * np.pi * rng.random(psd.shape))
+    H = np.sqrt(psd) * phase
+    h = np.fft.irfft2(H, s=cell.shape)
+    h -= h.mean()
+    if rms_height is not None:
+        scale = _finite_positive("rms_height", rms_height) / np.sqrt(np.mean(h**2))
+    else:
+        gx = cell.derivative(h, (1.0, 0.0))
+        gy = cell.derivative(h, (0.0, 1.0))
+        scale = _finite_positive("rms_slope", rms_slope) / np.sqrt(np.mean(gx**2 + gy**2))
+    return h * scale
+
+
+def check_heights(h: np.ndarray, cell: Cell, name: str = "heights") -> np.ndarray:
+    """Validate a height map against the grid: shape and finiteness."""
+    h = np.asarray(h, dtype=float)
+    if h.shape != cell.shape:
+        raise SurfaceError(f"{name} has shape {h.shape}, the grid is {cell.shape} (Nx, Ny)")
+    bad = ~np.isfinite(h)
+    if np.any(bad):
+        i = tuple(int(v) for v in np.argwhere(bad)[0])
+        raise SurfaceError(f"{name} has {int(bad.sum())} non-finite values (first at index {i})")
+    return h
+
+
+def from_npy(path, cell: Cell) -> np.ndarray:
+    """Height map (m) stored as a 2D .npy array of shape (Nx, Ny) for the given cell."""
+    path = Path(path)
+    try:
+        h = np.load(path, allow_pickle=False)
+    except (OSError, ValueError, EOFError) as exc:
+        raise SurfaceError(f"cannot read height map {str(path)!r}: {exc}") from exc
+    if h.ndim == 1:
+        h = h[:, None]
+    return check_heights(h, cell, name=f"height map {path.name}")

@@ -45,8 +45,9 @@ class ContactResult:
     penetration: float
     area_fraction: float
     mu: float
-    mu_dissipation: float
     mu_lateral: float
+    mu_profile: float
+    mu_dissipation: float
     iterations: int
     converged: bool
     message: str
@@ -65,18 +66,30 @@ def sliding_direction(op: SpectralOperator) -> np.ndarray:
     return np.array([1.0, 0.0]) if n == 0 else v / n
 
 
-def friction(op: SpectralOperator, heights: np.ndarray, p: np.ndarray):
-    """(μ, μ_⊥, μ_dissipation) of a pressure field: generalised Eq. (19) and physics.md §4.2."""
+def friction(op: SpectralOperator, heights: np.ndarray, p: np.ndarray, u: np.ndarray) -> dict:
+    """Friction coefficients of a pressure field (dimensionless, per unit mean pressure).
+
+    * ``mu`` — seed Eq. (19) generalised to 2D, μ = -(1/(A0 p̄)) ∫ p (v̂·∇u) d²x, with the exact
+      spectral derivative of the surface displacement u;
+    * ``mu_lateral`` — the same along v̂⊥ = ẑ × v̂ (lateral force / normal force);
+    * ``mu_profile`` — the force on the rigid indenter, -(1/(A0 p̄)) ∫ p (v̂·∇h) d²x; equal to
+      ``mu`` in the continuum (u = w on the contact), they differ by the edge discretisation;
+    * ``mu_dissipation`` — the spectral dissipation form (physics.md §4.2), equal to ``mu``
+      by Parseval (a check of the Fourier conventions).
+    """
     cell = op.cell
     vhat = sliding_direction(op)
     vperp = np.array([-vhat[1], vhat[0]])
-    total = float(np.sum(p)) * cell.cell_area
+    total = float(np.sum(p))
     if total == 0.0:
-        return 0.0, 0.0, 0.0
-    fx = -float(np.sum(p * cell.derivative(heights, vhat))) * cell.cell_area
-    fy = -float(np.sum(p * cell.derivative(heights, vperp))) * cell.cell_area
-    fd = op.dissipation_friction_force(p, vhat)
-    return fx / total, fy / total, fd / total
+        return dict(mu=0.0, mu_lateral=0.0, mu_profile=0.0, mu_dissipation=0.0)
+    area = cell.cell_area
+    return dict(
+        mu=-float(np.sum(p * cell.derivative(u, vhat))) / total,
+        mu_lateral=-float(np.sum(p * cell.derivative(u, vperp))) / total,
+        mu_profile=-float(np.sum(p * cell.derivative(heights, vhat))) / total,
+        mu_dissipation=op.dissipation_friction_force(p, vhat) / (total * area),
+    )
 
 
 def _check_controls(heights, op, mean_pressure, penetration):
@@ -355,9 +368,8 @@ def solve_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         u = np.nan_to_num(u)
     gap = u - (h - hmax + delta)
     gap[mask] = 0.0
-    mu, mu_lat, mu_d = friction(op, h, p)
+    fr = friction(op, h, p, u)
     return ContactResult(
         pressure=p, displacement=u, gap=gap, mask=mask, mean_pressure=float(p.mean()),
-        penetration=float(delta), area_fraction=float(mask.mean()), mu=mu, mu_dissipation=mu_d,
-        mu_lateral=mu_lat, iterations=int(its), converged=bool(conv), message=msg,
+        penetration=float(delta), area_fraction=float(mask.mean()), **fr, iterations=int(its), converged=bool(conv), message=msg,
         method=method, diagnostics=diag)

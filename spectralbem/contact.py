@@ -346,7 +346,6 @@ def solve_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
                   mask0=None) -> ContactResult:
     """Adhesiveless contact of the rigid profile ``heights`` under load or penetration control."""
     h = _check_controls(heights, op, mean_pressure, penetration)
-    cell = op.cell
     hmax = float(h.max())
     if op.symmetric:
         p, u, delta, its, conv, msg, pairs = polonsky_keer(
@@ -371,5 +370,6 @@ def solve_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     fr = friction(op, h, p, u)
     return ContactResult(
         pressure=p, displacement=u, gap=gap, mask=mask, mean_pressure=float(p.mean()),
-        penetration=float(delta), area_fraction=float(mask.mean()), **fr, iterations=int(its), converged=bool(conv), message=msg,
+        penetration=float(delta), area_fraction=float(mask.mean()), **fr, iterations=int(its),
+        converged=bool(conv), message=msg,
         method=method, diagnostics=diag)

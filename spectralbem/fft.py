@@ -81,7 +81,7 @@ class RealFFT2:
 
     @property
     def spectrum_buffer(self) -> np.ndarray:
-        """Input buffer of the inverse transform (write a spectrum here, then ``inverse_buffer``)."""
+        """Input buffer of the inverse transform (write a spectrum, then ``inverse_buffer``)."""
         if self.use_fftw:
             return self._cin
         if not hasattr(self, "_cin"):

@@ -57,7 +57,8 @@ def s_glued(s, nu: float) -> np.ndarray:
     big = s > _SWITCH
     sb = s[big]
     e2 = np.exp(-2.0 * sb)
-    out[big] = (c * (1.0 - e2 * e2) - 4.0 * sb * e2) / (c * (1.0 + e2 * e2) + (4.0 * sb**2 + 2.0 * c0) * e2)
+    den = c * (1.0 + e2 * e2) + (4.0 * sb**2 + 2.0 * c0) * e2
+    out[big] = (c * (1.0 - e2 * e2) - 4.0 * sb * e2) / den
     ss = s[~big]
     num = 4.0 * (1.0 - 2.0 * nu) * ss + c * _sinh_minus_x(2.0 * ss)  # = c sinh 2s - 2s
     den = 2.0 * c * np.sinh(ss) ** 2 + 2.0 * ss**2 + 8.0 * (1.0 - nu) ** 2

@@ -157,7 +157,7 @@ class Prony(Material):
             raise MaterialError(
                 f"moduli has {len(mods)} entries but times has {len(times)}: they must match"
             )
-        for i, (m, t) in enumerate(zip(mods, times)):
+        for i, (m, t) in enumerate(zip(mods, times, strict=True)):
             _check_positive(f"moduli[{i}]", m)
             _check_positive(f"times[{i}]", t)
         object.__setattr__(self, "moduli", mods)
@@ -179,7 +179,7 @@ class Prony(Material):
     def modulus(self, omega) -> np.ndarray:
         w = np.asarray(omega, dtype=float)
         E = np.full(w.shape, self.E_eq, dtype=np.complex128)
-        for Ek, tk in zip(self.moduli, self.times):
+        for Ek, tk in zip(self.moduli, self.times, strict=True):
             x = -1j * w * tk
             E += Ek * x / (1.0 + x)
         return E
@@ -255,7 +255,8 @@ class Tabulated(Material):
         try:
             data = np.array([[float(x) for x in r[:3]] for r in rows])
         except ValueError as exc:
-            raise MaterialError(f"modulus table {str(path)!r} has a non-numeric entry: {exc}")
+            raise MaterialError(
+                f"modulus table {str(path)!r} has a non-numeric entry: {exc}") from exc
         if data.ndim != 2 or data.shape[1] != 3:
             raise MaterialError(
                 f"modulus table {str(path)!r} must have 3 columns (omega, storage, loss)"

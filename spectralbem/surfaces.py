@@ -35,7 +35,8 @@ def sinusoid(cell: Cell, amplitude: float, wavelength: float | None = None) -> n
     lam = cell.Lx if wavelength is None else _finite_positive("wavelength", wavelength)
     n = cell.Lx / lam
     if abs(n - round(n)) > 1e-9 or round(n) < 1:
-        raise SurfaceError(f"wavelength = {lam!r} must divide Lx = {cell.Lx!r} a whole number of times")
+        raise SurfaceError(
+            f"wavelength = {lam!r} must divide Lx = {cell.Lx!r} a whole number of times")
     X, _ = cell.coordinates()
     return amplitude * np.cos(2 * np.pi * X / lam)
 

@@ -13,7 +13,8 @@ S_GRID = np.logspace(-8, 8, 97)
 def ref_glued(s, nu):
     s, nu = mp.mpf(s), mp.mpf(nu)
     c = 3 - 4 * nu
-    return (c * mp.sinh(2 * s) - 2 * s) / (c * mp.cosh(2 * s) + 2 * s**2 - 4 * nu * (3 - 2 * nu) + 5)
+    den = c * mp.cosh(2 * s) + 2 * s**2 - 4 * nu * (3 - 2 * nu) + 5
+    return (c * mp.sinh(2 * s) - 2 * s) / den
 
 
 def ref_pressure(s):

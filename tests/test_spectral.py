@@ -21,7 +21,7 @@ def cos_mode(cell, mx, my):
 @pytest.mark.parametrize("shape", [(48, 30), (45, 7), (64, 64)])
 @pytest.mark.parametrize("layer", [None, GluedLayer(0.3), PressureLayer(0.2)])
 def test_single_mode_response_matches_formula(shape, layer):
-    """p = cos(q·x) gives u = Re[Ĉ(q) e^{iq·x}] with Ĉ from (A.3)/(A.8), any grid and v direction."""
+    """p = cos(q·x) gives u = Re[Ĉ(q) e^{iq·x}], Ĉ from (A.3)/(A.8), any grid and v direction."""
     cell = Cell(1.3, 0.7, *shape)
     v = (0.4, -0.25)
     op = SpectralOperator(cell, SLS, layer, velocity=v)

@@ -1,0 +1,43 @@
+"""Units, signs and dimensionless groups — stated once, here.
+
+Units
+    SI throughout: lengths in m, pressures and moduli in Pa, times in s, velocities in m/s,
+    work of adhesion Δγ in J/m².  The solver is linear, so any consistent unit system works.
+
+Signs (the seed's, checked in physics.md §0.1 and by tests/test_spectral.py)
+    * Fourier transform ``f(q, ω) = ∫dt d²x f e^{-i(q·x - ωt)}`` (seed Eq. A.7): a passive
+      material has ``Im E(ω) < 0`` for ω > 0 (conjugate of the engineering ``E' + iE''``).
+    * Steady sliding ``f(x, t) = f(x - v t)``: the indenter moves along +v relative to the slab.
+      The trailing (opening) edge is at the back (−v side), the leading (closing) edge at the
+      front; a positive eccentricity ẽ means the contact is shifted toward the leading edge.
+    * ``u`` is the surface displacement *into* the slab, ``p = -σ`` the pressure, positive in
+      compression.  The rigid profile ``h`` is the height toward the slab; in contact
+      ``u = h - max(h) + Δ``; the gap ``g = u - w ≥ 0``.
+    * Gauge: for a half-space the q = 0 displacement mode is dropped, so Δ is measured from the
+      mean level of the deformed surface (the seed's log|2 sin(kx/2)| kernel).
+    * Energies use the compressive pressure (physics.md §0.2 item 2): ``U = ½∫p u ≥ 0``.
+
+Dimensionless groups of the sinusoid h = Λ cos(kx) (seed Section 4, with the corrected Γ of
+physics.md §0.2 item 1)
+    ã = k a, ẽ = k e, p̃ = p/p* with p* = E0 k Λ/(2(1-ν²)), Δ̃ = Δ/Λ, Λ̃ = kΛ, ζ = k v τ,
+    β = E∞/E0, Γ = (1-ν²)Δγ/(π E0 k Λ²), ã0 = k a0.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def p_star(E0: float, nu: float, k: float, amplitude: float) -> float:
+    """Full-contact pressure scale p* = E0* k Λ/2 (Westergaard), so p̃ = p/p*."""
+    return E0 / (1.0 - nu**2) * k * amplitude / 2.0
+
+
+def gamma_from_dgamma(dgamma: float, E0: float, nu: float, k: float, amplitude: float) -> float:
+    """Γ = (1-ν²)Δγ/(π E0 k Λ²)."""
+    return (1.0 - nu**2) * dgamma / (np.pi * E0 * k * amplitude**2)
+
+
+def dgamma_from_gamma(Gamma: float, E0: float, nu: float, k: float, amplitude: float) -> float:
+    """Inverse of :func:`gamma_from_dgamma`."""
+    return Gamma * np.pi * E0 * k * amplitude**2 / (1.0 - nu**2)

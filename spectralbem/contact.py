@@ -135,112 +135,153 @@ def _full_contact(op, h, mean_pressure=None, penetration=None):
 
 
 def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetration=None,
-                  tol: float = 1e-10, maxiter: int = 10000, p0=None, refresh: int = 64):
+                  tol: float = 1e-10, maxiter: int = 10000, p0=None, refresh: int = 50):
     """Constrained CG of Polonsky & Keer (1999) for a symmetric operator.
 
-    Returns (p, u, delta, iterations, converged, message, fft_pairs).  The error measure is the
-    complementarity ``Σ p|g| / (Σ p · (max h - min h))`` plus the absence of overlap
-    (g < 0 where p = 0, relative to the height range).
+    The pressure is carried in Fourier space as well: the step length uses Parseval,
+    ⟨C t, t⟩ = Σ_q Ĉ |t̂|²/N, so an iteration costs one forward FFT (of the search direction
+    t) and one inverse FFT (u = C p); a change of the active set adds one forward FFT of the
+    sparse projection correction.  p̂ is recomputed exactly every ``refresh`` iterations.
+    Real-space work is done on packed index arrays of the contact set.  Under load control
+    the search direction is kept mean-free on the contact (the mean-gap term of PK).
+
+    The error is the complementarity ``Σ p|g| / (Σ p · (max h - min h))`` on the contact;
+    convergence also requires no overlap (g < -tol·range where p = 0).
+
+    Returns (p, u, delta, iterations, converged, message, fft_pairs).
     """
     if not op.symmetric:
         raise ContactError("polonsky_keer needs a symmetric operator (elastic or v = 0)")
-    h = np.asarray(heights, dtype=float)
-    cell = op.cell
-    n = cell.Nx * cell.Ny
+    h = np.ascontiguousarray(heights, dtype=float)
+    shape = op.cell.shape
+    n = h.size
     hmax = float(h.max())
     hrange = max(float(h.max() - h.min()), np.finfo(float).tiny)
     load = mean_pressure is not None
+    pl = op.plan
+    kn = op.kernel.real / n  # kernel with the inverse normalisation folded in
+    kw = np.ascontiguousarray(op.cell.rfft_weights() * kn)  # Parseval weights · Ĉ / N
     if load:
         target = float(mean_pressure)
-        p = np.full(cell.shape, target) if p0 is None else np.maximum(np.asarray(p0, float), 0)
-        if p.sum() <= 0:
-            p = np.full(cell.shape, target)
+        w = (h - hmax).ravel()
+        p = np.full(n, target) if p0 is None else np.maximum(np.ravel(p0).astype(float), 0.0)
+        if not p.sum() > 0:
+            p = np.full(n, target)
         p *= target * n / p.sum()
-        w = h - hmax
     else:
-        w = h - hmax + float(penetration)
-        p = np.maximum(w, 0.0) if p0 is None else np.maximum(np.asarray(p0, float), 0)
-        if not np.any(p > 0):
-            p = np.zeros(cell.shape)
-            p.flat[np.argmax(h)] = 1.0
-            p *= hrange / max(float(op.apply(p).max()), 1e-300)
-    u = op.apply(p)
-    pairs = 1
-    t = np.zeros(cell.shape)
-    r = np.empty(cell.shape)
-    delta_flag = 0.0
+        w = (h - hmax + float(penetration)).ravel()
+        if p0 is not None and np.any(np.ravel(p0) > 0):
+            p = np.maximum(np.ravel(p0).astype(float), 0.0)
+        else:  # start from the points that overlap the undeformed surface
+            p = np.maximum(w, 0.0)
+            if not np.any(p > 0):
+                p[np.argmax(w)] = 1.0
+            p *= hrange / max(float(op.apply(p.reshape(shape)).max()), 1e-300)
+    forwards = inverses = 0
+
+    def fwd(x):
+        nonlocal forwards
+        forwards += 1
+        return pl.forward(x.reshape(shape))
+
+    def u_from(P):
+        nonlocal inverses
+        inverses += 1
+        np.multiply(P, kn, out=pl.spectrum_buffer)
+        return pl.inverse_buffer().ravel().copy()
+
+    P = fwd(p).copy()
+    u = u_from(P)
+    t = np.zeros(n)
+    c = np.zeros(n)
+    buf = np.empty(n)
+    T = np.empty_like(P)
+    idx = np.flatnonzero(p > 0)
+    tc = np.zeros(idx.size)
+    coef_flag = 0.0
     G_old = 1.0
     err = np.inf
     gbar = 0.0
-    message = ""
+    message = f"not converged in {maxiter} iterations"
     converged = False
     it = 0
     for it in range(1, maxiter + 1):
-        g = u - w
-        Ic = p > 0
-        if not np.any(Ic):
+        if idx.size == 0:
             message = "no contact: the indenter does not reach the surface"
             converged = True
             break
+        gc = u.take(idx) - w.take(idx)
         if load:
-            gbar = float(g[Ic].mean())
-            g -= gbar
-        G = float(np.dot(g[Ic], g[Ic]))
-        np.multiply(t, delta_flag * G / G_old if G_old > 0 else 0.0, out=t)
-        t[Ic] += g[Ic]
-        t[~Ic] = 0.0
-        G_old = G
-        op.apply(t, out=r)
-        pairs += 1
-        rbar = float(r[Ic].mean()) if load else 0.0
-        denom = float(np.dot(r[Ic] - rbar, t[Ic]))
-        if denom <= 0 or not np.isfinite(denom):
-            # converged to round-off (t ≈ 0) or lost positivity
-            err = float(np.sum(p * np.abs(g)) / (np.sum(p) * hrange))
-            converged = err < tol and not np.any((p == 0) & (g < -tol * hrange))
-            message = "converged" if converged else f"search direction degenerate at iteration {it}"
-            break
-        tau = float(np.dot(g[Ic], t[Ic])) / denom
-        p_trial = p - tau * t
-        p_new = np.maximum(p_trial, 0.0)
-        overlap = (p_new == 0) & (g < 0)
-        if np.any(overlap):
-            delta_flag = 0.0
-            p_new[overlap] -= tau * g[overlap]
-        else:
-            delta_flag = 1.0
-        corr = p_new - p_trial  # non-zero only where the active set changed
-        changed = bool(np.any(corr != 0))
-        scale = target * n / float(p_new.sum()) if load else 1.0
-        if not np.isfinite(scale) or scale <= 0:
-            message = "pressure collapsed to zero (load cannot be carried)"
-            break
-        # u_new = scale·(u - τ C t + C corr): exact by linearity
-        if changed or it % refresh == 0:
-            p = p_new * scale
-            op.apply(p, out=u)
-            pairs += 1
-        else:
-            u -= tau * r
-            u *= scale
-            p = p_new * scale
-        g = u - w
-        Ic = p > 0
-        if load and np.any(Ic):
-            gbar = float(g[Ic].mean())
-            g -= gbar
-        err = float(np.sum(p * np.abs(g)) / (np.sum(p) * hrange))
+            gbar = float(gc.mean())
+            gc -= gbar
+        pc = p.take(idx)
+        # convergence test on the current state: complementarity and no overlap
+        np.subtract(u, w, out=buf)
+        buf.put(idx, np.inf)
+        overlap_min = float(buf.min()) - gbar
+        err = float(np.dot(pc, np.abs(gc)) / (pc.sum() * hrange))
         if not np.isfinite(err):
             message = f"non-finite error at iteration {it}"
             break
-        if err < tol and not np.any((p == 0) & (g < -tol * hrange)):
-            converged = True
-            message = "converged"
+        if err < tol and overlap_min >= -tol * hrange:
+            converged, message = True, "converged"
             break
+        G = float(np.dot(gc, gc))
+        tc = gc + (coef_flag * G / G_old) * tc if coef_flag else gc.copy()
+        if load:
+            tc -= tc.mean()
+        G_old = G
+        t.put(idx, tc)
+        T[...] = fwd(t)
+        t.put(idx, 0.0)
+        denom = float(np.vdot(T, kw * T).real)  # ⟨C t, t⟩ by Parseval
+        if not denom > 0:
+            message = f"search direction degenerate at iteration {it} (error {err:.3e})"
+            break
+        tau = float(np.dot(gc, tc)) / denom
+        pc -= tau * tc
+        clipped = pc < 0
+        changed = bool(clipped.any())
+        ov = np.flatnonzero(buf < gbar) if overlap_min < 0 else np.empty(0, dtype=np.intp)
+        coef_flag = 0.0 if ov.size else 1.0
+        # P ← s (P - τ T + FFT(c)), c = the projection correction (clipping, overlap)
+        np.multiply(T, tau, out=T)
+        np.subtract(P, T, out=P)
+        if changed or ov.size:
+            cidx = idx[clipped]
+            c.put(cidx, -pc[clipped])
+            pc[clipped] = 0.0
+            pov = -tau * (buf.take(ov) - gbar)
+            c.put(ov, pov)
+            P += fwd(c)
+            c.put(cidx, 0.0)
+            c.put(ov, 0.0)
+        total = float(pc.sum()) + (float(pov.sum()) if ov.size else 0.0)
+        scale = target * n / total if load else 1.0
+        if not (np.isfinite(scale) and scale > 0):
+            message = f"pressure collapsed at iteration {it}: the load cannot be carried"
+            break
+        p.put(idx, pc * scale)
+        if ov.size:
+            p.put(ov, pov * scale)
+        if it % refresh == 0:
+            P[...] = fwd(p)
+        elif scale != 1.0:
+            P *= scale
+        u = u_from(P)
+        if changed or ov.size:
+            keep = ~clipped
+            idx, tc = idx[keep], tc[keep]
+            if ov.size:
+                idx = np.concatenate([idx, ov])
+                order = np.argsort(idx, kind="stable")
+                idx = idx[order]
+                tc = np.concatenate([tc, np.zeros(ov.size)])[order]
     else:
         message = f"not converged in {maxiter} iterations (error {err:.3e} > tol {tol:.1e})"
     delta = gbar if load else float(penetration)
-    return p, u, delta, it, converged, message, pairs
+    pairs = 0.5 * (forwards + inverses)
+    return p.reshape(shape), u.reshape(shape), delta, it, converged, message, pairs
 
 
 def active_set(op: SpectralOperator, heights, *, mean_pressure=None, penetration=None,

@@ -23,7 +23,8 @@ def _info(args) -> int:
     from . import __version__, fft
 
     print(f"spectralbem {__version__}")
-    print(f"python {platform.python_version()}, numpy {numpy.__version__}, scipy {scipy.__version__}")
+    print(f"python {platform.python_version()}, numpy {numpy.__version__}, "
+          f"scipy {scipy.__version__}")
     print(f"FFT backend: {fft.backend()}, threads: {fft.get_threads()}")
     return 0
 

@@ -270,12 +270,14 @@ class Sinusoid1D:
     dgamma : work of adhesion Δγ (J/m²); 0 = adhesiveless (closure K = 0 at both edges)
     a0 : advance width of the edge energy balance (m); 0 = strict limit through the SIF
     modes : Chebyshev modes M; quad : Gauss-Chebyshev / DCT nodes Q (default from v τ / a)
+    E_ref : modulus of the dimensionless groups (default the material's E0)
     """
 
     def __init__(self, material: Material, k: float, amplitude: float, velocity: float = 0.0,
                  dgamma: float = 0.0, a0: float = 0.0, modes: int = 64, quad: int | None = None,
-                 strip_nodes: int = 48):
+                 strip_nodes: int = 48, E_ref: float | None = None):
         self.material = material
+        self.E_ref = material.E0 if E_ref is None else float(E_ref)
         self.k = float(k)
         self.lam = 2 * np.pi / self.k
         self.amp = float(amplitude)
@@ -285,7 +287,7 @@ class Sinusoid1D:
         self.M = int(modes)
         self.kernel = Kernel1D(material, self.k, self.v)
         if quad is None:  # resolve the kernel's relaxation length v/ω_c across a period
-            quad = 4096
+            quad = 1024  # elastic: the smooth part log sinc(θ/2π) is analytic
             if self.kernel.visco:
                 quad = int(2 ** np.clip(np.ceil(np.log2(0.5 * self.lam / self.kernel.scale)),
                                         12, 14))
@@ -390,8 +392,8 @@ class Sinusoid1D:
         return np.array([np.sign(g) * np.sqrt(abs(g) / self.dgamma) - 1.0 for g in G])
 
     def p_star(self):
-        """p* = E0* k Λ/2 (Westergaard full-contact pressure)."""
-        return self.material.E0 / (1 - self.material.nu**2) * self.k * self.amp / 2
+        """p* = E0* k Λ/2 (Westergaard full-contact pressure), with E0 = ``E_ref``."""
+        return self.E_ref / (1 - self.material.nu**2) * self.k * self.amp / 2
 
     def equilibrium(self, *, delta=None, p_mean=None, guess=None, tol=1e-12):
         """Partial-contact equilibrium at given Δ or p∞ from a guess (l1, l2)."""
@@ -413,11 +415,13 @@ class Sinusoid1D:
         """Symmetric Johnson (1995) contact with E0 at the same load (or a small contact)."""
         from . import reference as ref
 
-        Gam = (1 - self.material.nu**2) * self.dgamma / (np.pi * self.material.E0 * self.k
+        beta = self.material.E0 / self.E_ref
+        Gam = (1 - self.material.nu**2) * self.dgamma / (np.pi * self.E_ref * self.k
                                                          * self.amp**2)
         if control == "p_mean":
             pt = value / self.p_star()
-            a = ref.johnson_a(pt, Gam) if Gam > 0 else ref.westergaard_a(pt)
+            a = (ref.johnson_a(pt, Gam, beta) if Gam > 0
+                 else ref.westergaard_a(pt / beta))
             if not np.isfinite(a):
                 a = 1.0
         else:
@@ -430,3 +434,287 @@ class Sinusoid1D:
         d = state.domain
         up = -self.amp * self.k * np.sin(self.k * d.xq)
         return -d.integrate(state.coef, up) / (self.lam * state.p_mean)
+
+
+# ---------------------------------------------------------------------------------------------
+# dimensionless entry points (seed Section 4 groups; conventions.py)
+
+NXI = 65  # contact-mesh points stored per state (Chebyshev points of the second kind, interior)
+
+
+def dimensionless_problem(zeta: float, beta: float, Gamma: float, a0_tilde: float = 0.0, *,
+                          adhesive: bool = True, modes: int = 64, quad: int | None = None,
+                          strip_nodes: int = 48) -> Sinusoid1D:
+    """Problem in units k = Λ = E0* = τ = 1, so p̃ = 2p, Δγ = πΓ, v = ζ, a0 = ã0.
+
+    ζ = 0 (or β = 1) is the elastic E0 problem and ζ = inf the elastic E∞ problem (still
+    normalised with E0).
+    """
+    _check_inputs(zeta=zeta, beta=beta, Gamma=Gamma, a0_tilde=a0_tilde)
+    if beta == 1.0 or zeta == 0.0:
+        mat, v = Elastic(1.0, 0.0), 0.0
+    elif np.isinf(zeta):
+        mat, v = Elastic(float(beta), 0.0), 0.0
+    else:
+        mat, v = StandardLinearSolid(1.0, float(beta), 1.0, 0.0), float(zeta)
+    return Sinusoid1D(mat, 1.0, 1.0, velocity=v, dgamma=np.pi * Gamma if adhesive else 0.0,
+                      a0=a0_tilde, modes=modes, quad=quad, strip_nodes=strip_nodes, E_ref=1.0)
+
+
+def _check_inputs(**kw):
+    rng = {"zeta": (0.0, np.inf, True), "beta": (1.0, 1e8, False), "Gamma": (0.0, 10.0, False),
+           "a0_tilde": (0.0, 1.0, False)}
+    for name, value in kw.items():
+        lo, hi, inf_ok = rng[name]
+        v = float(value)
+        if np.isnan(v) or v < lo or (v > hi and not (inf_ok and np.isinf(v))):
+            raise ValueError(f"{name} = {value!r} is outside the allowed range [{lo}, {hi}]"
+                             + (" or inf" if inf_ok else ""))
+
+
+def _status(pr: Sinusoid1D, st: State) -> str:
+    if st.info.get("converged"):
+        return "partial"
+    span = st.l1 + st.l2
+    if span > 0.98 * pr.lam:
+        return "full_contact"
+    if span < 1e-3 * pr.lam:
+        return "detached"
+    return "not_converged"
+
+
+def _summary(pr: Sinusoid1D, st: State) -> dict:
+    """Dimensionless scalars of a state (k = Λ = E0* = 1 units)."""
+    k, lam = pr.k, pr.lam
+    pstar = pr.p_star()
+    out = {
+        "a_tilde": k * (st.l1 + st.l2) / 2, "e_tilde": k * (st.l2 - st.l1) / 2,
+        "p_tilde": st.p_mean / pstar, "delta_tilde": st.delta / pr.amp,
+        "mu_bar": pr.friction(st) / (k * pr.amp),
+        "K1": st.K[0], "K2": st.K[1],
+    }
+    if pr.dgamma > 0 and pr.a0 > 0 and st.work[0] is not None:
+        G1, G2 = (ew.dU / pr.a0 for ew in st.work)
+    elif pr.dgamma > 0:  # a0 = 0: strict limit, δL_P → 0 and G_i = K_i²/(2E_tip*)
+        G1, G2 = (K * abs(K) / (2 * pr.Estar_tip) for K in st.K)
+    else:
+        G1 = G2 = np.nan
+    dg = pr.dgamma if pr.dgamma > 0 else np.nan
+    out.update(G1_over_dgamma=G1 / dg, G2_over_dgamma=G2 / dg,
+               mu_bar_adhesive=(G1 - G2) / (k * pr.amp * lam * st.p_mean)
+               if pr.dgamma > 0 else 0.0)
+    return out
+
+
+SCALARS = {
+    "a_tilde": "dimensionless contact semi-width k a",
+    "e_tilde": "dimensionless eccentricity k e (> 0: toward the leading edge)",
+    "p_tilde": "dimensionless mean pressure 2(1-ν²)p∞/(E0 k Λ)",
+    "delta_tilde": "dimensionless penetration Δ/Λ (mean-level gauge)",
+    "mu_bar": "reduced friction coefficient μ/Λ̃, Eq. (19), (22)",
+    "mu_bar_adhesive": "reduced adhesive friction (G1-G2)/(Λ̃ λ p∞), Eq. (23)",
+    "G1_over_dgamma": "energy release rate at the trailing (opening) edge, Eq. (20)",
+    "G2_over_dgamma": "energy release rate at the leading (closing) edge, Eq. (21)",
+    "a_tilde_adhesiveless": "adhesiveless k a at the same load",
+    "e_tilde_adhesiveless": "adhesiveless k e at the same load",
+    "mu_bar_adhesiveless": "adhesiveless μ/Λ̃ at the same load",
+}
+
+
+def solve(zeta: float, beta: float, Gamma: float, *, p_tilde: float | None = None,
+          delta_tilde: float | None = None, a0_tilde: float, modes: int = 64, guess=None,
+          adhesiveless_reference: bool = True, quad: int | None = None):
+    """One state of the seed's sinusoid problem; returns an xarray Dataset.
+
+    Give exactly one of ``p_tilde`` (load control) and ``delta_tilde`` (displacement control).
+    ``a0_tilde`` = k a0 is the advance width of the edge energy balance (0: strict SIF limit).
+    ``guess`` = (k l1, k l2) for continuation.  Scalars: a_tilde, e_tilde, p_tilde,
+    delta_tilde, mu_bar, mu_bar_adhesive, G1_over_dgamma, G2_over_dgamma, status, and the
+    adhesiveless a, e, μ at the same load; fields sigma_tilde (= σ/p* = -p̃) and u_tilde (= u/Λ)
+    on the contact mesh x_tilde.
+    """
+    import xarray as xr
+
+    if (p_tilde is None) == (delta_tilde is None):
+        raise ValueError("give exactly one of p_tilde (load control) and delta_tilde")
+    for name, v in (("p_tilde", p_tilde), ("delta_tilde", delta_tilde)):
+        if v is not None and not np.isfinite(v):
+            raise ValueError(f"{name} = {v!r} must be finite")
+    pr = dimensionless_problem(zeta, beta, Gamma, a0_tilde, adhesive=Gamma > 0, modes=modes,
+                               quad=quad)
+    ctl = {"p_mean": p_tilde * pr.p_star()} if p_tilde is not None else {"delta": delta_tilde}
+    st = pr.equilibrium(guess=guess, **ctl)
+    status = _status(pr, st)
+    vals = _summary(pr, st)
+    if status != "partial":
+        for key in vals:
+            vals[key] = np.nan
+    if adhesiveless_reference:
+        ref = dimensionless_problem(zeta, beta, Gamma, 0.0, adhesive=False, modes=modes,
+                                    quad=quad)
+        pt = vals["p_tilde"] if np.isfinite(vals["p_tilde"]) else p_tilde
+        if pt is not None and np.isfinite(pt) and pt > 0:
+            s0 = ref.equilibrium(p_mean=pt * ref.p_star())
+            v0 = _summary(ref, s0) if s0.info["converged"] else dict.fromkeys(vals, np.nan)
+        else:
+            v0 = dict.fromkeys(vals, np.nan)
+        vals.update(a_tilde_adhesiveless=v0["a_tilde"], e_tilde_adhesiveless=v0["e_tilde"],
+                    mu_bar_adhesiveless=v0["mu_bar"])
+    xi = np.cos(np.pi * np.arange(1, NXI + 1) / (NXI + 1))[::-1]
+    x = st.domain.c + st.domain.a * xi
+    p = st.domain.pressure(st.coef, x)
+    data = {k_: ((), float(v), {"long_name": SCALARS.get(k_, k_), "units": "1"})
+            for k_, v in vals.items() if k_ not in ("K1", "K2")}
+    data["status"] = ((), status, {"long_name": "partial | full_contact | detached | "
+                                                "not_converged"})
+    data["sigma_tilde"] = (("x",), -p / pr.p_star(), {"long_name": "normal stress σ/p* = -p̃",
+                                                      "units": "1"})
+    data["u_tilde"] = (("x",), pr.w(x, st.delta) / pr.amp,
+                       {"long_name": "surface displacement u/Λ on the contact", "units": "1"})
+    ds = xr.Dataset(data, coords={"x_tilde": (("x",), x * pr.k, {"long_name": "k x",
+                                                                  "units": "1"})})
+    ds.attrs.update(model="sinusoid1d", zeta=float(zeta), beta=float(beta),
+                    Gamma=float(Gamma), a0_tilde=float(a0_tilde),
+                    control="load" if p_tilde is not None else "displacement",
+                    modes=pr.M, quad=pr.Q, converged=int(bool(st.info.get("converged"))),
+                    solver_message=str(st.info.get("message")),
+                    residual=float(st.info.get("residual", np.nan)),
+                    l1_tilde=float(st.l1 * pr.k), l2_tilde=float(st.l2 * pr.k))
+    return ds
+
+
+def sweep(zeta, beta: float, Gamma: float, *, p_tilde=None, delta_tilde=None, a0_tilde: float,
+          modes: int = 64, progress: bool = False):
+    """ζ sweep with continuation from the previous point; one Dataset with dimension zeta.
+
+    Points are solved in increasing ζ, each started from the previous converged edges;
+    a point that fails is retried from the elastic guess.
+    """
+    import xarray as xr
+
+    zetas = np.atleast_1d(np.asarray(zeta, dtype=float))
+    order = np.argsort(zetas)
+    results = [None] * zetas.size
+    guess = None
+    it = order
+    if progress:
+        from tqdm import tqdm
+
+        it = tqdm(order, desc="zeta sweep")
+    for i in it:
+        ds = solve(zetas[i], beta, Gamma, p_tilde=p_tilde, delta_tilde=delta_tilde,
+                   a0_tilde=a0_tilde, modes=modes, guess=guess)
+        if ds["status"].item() != "partial" and guess is not None:
+            ds = solve(zetas[i], beta, Gamma, p_tilde=p_tilde, delta_tilde=delta_tilde,
+                       a0_tilde=a0_tilde, modes=modes)
+        if ds["status"].item() == "partial":
+            guess = (ds.attrs["l1_tilde"], ds.attrs["l2_tilde"])
+        results[i] = ds.drop_vars(["sigma_tilde", "u_tilde", "x_tilde"])
+    out = xr.concat(results, dim="zeta", combine_attrs="drop_conflicts")
+    return out.assign_coords(zeta=("zeta", zetas, {"long_name": "ζ = k v τ", "units": "1"}))
+
+
+# ---------------------------------------------------------------------------------------------
+# the equilibrium branch parametrised by the contact size (pull-off, toughness, snap-in)
+
+
+def branch_point(pr: Sinusoid1D, a: float, guess=(0.0, None)):
+    """Equilibrium at half-width a: solve (e, Δ) so that both edges balance.  Returns State."""
+    e0, d0 = guess
+    if d0 is None:
+        d0 = pr.amp * np.sin(pr.k * a / 2) ** 2
+
+    def F(y):
+        e, d = y
+        l1, l2 = a - e, a + e
+        if not (l1 + l2 < 0.999 * pr.lam and l1 > -0.999 * a and l2 > -0.999 * a):
+            return np.array([1e3, 1e3])
+        return pr._residual((l1, l2), "delta", d)
+
+    sol = root(F, np.array([e0, d0], float), method="hybr", options={"xtol": 1e-12})
+    e, d = sol.x
+    st = pr.solve_domain(a - e, a + e, delta=d)
+    if pr.dgamma and pr.a0:
+        pr.release_rates(st)
+    st.info = {"converged": bool(np.max(np.abs(sol.fun)) < 1e-8), "message": sol.message,
+               "residual": float(np.max(np.abs(sol.fun)))}
+    return st
+
+
+def trace_branch(pr: Sinusoid1D, a_values):
+    """p̃(ã), Δ̃(ã) and ẽ(ã) along the branch (arrays; nan where a point fails)."""
+    out = {"a_tilde": [], "p_tilde": [], "delta_tilde": [], "e_tilde": []}
+    guess = (0.0, None)
+    for a in a_values:
+        st = branch_point(pr, a, guess)
+        ok = st.info["converged"]
+        if ok:
+            guess = ((st.l2 - st.l1) / 2, st.delta)
+        out["a_tilde"].append(pr.k * a)
+        out["p_tilde"].append(st.p_mean / pr.p_star() if ok else np.nan)
+        out["delta_tilde"].append(st.delta / pr.amp if ok else np.nan)
+        out["e_tilde"].append(pr.k * (st.l2 - st.l1) / 2 if ok else np.nan)
+    return {k_: np.array(v) for k_, v in out.items()}
+
+
+def special_points(zeta: float, beta: float, Gamma: float, *, a0_tilde: float,
+                   modes: int = 64, n: int = 40, cheb: int = 20):
+    """Pull-off (load and fixed Δ), zero-load contact, snap-in to full contact and toughness.
+
+    Traces the branch in ã (grid refined toward small ã), refines each extremum by a bounded
+    scalar minimisation, and evaluates the toughness of Eq. (24), T̃ = 2π∫ p̃ dΔ̃ from p̃ = 0 to
+    the fixed-Δ pull-off, exactly on Chebyshev fits of p̃(ã) and Δ̃(ã) through ``cheb`` points.
+    Returns a dict with the keys of :func:`spectralbem.reference.johnson_special_points`.
+    """
+    from numpy.polynomial import chebyshev as C
+    from scipy.optimize import brentq, minimize_scalar
+
+    pr = dimensionless_problem(zeta, beta, Gamma, a0_tilde, modes=modes)
+    a_grid = np.concatenate([np.geomspace(0.02, 0.5, n // 2, endpoint=False),
+                             np.linspace(0.5, 3.0, n // 2)])
+    solved = {}  # ã -> (e, Δ), for warm starts
+
+    def at(a):
+        if solved:
+            near = min(solved, key=lambda b: abs(b - a))
+            guess = solved[near]
+        else:
+            guess = (0.0, None)
+        st = branch_point(pr, a, guess)
+        if not st.info["converged"] and guess != (0.0, None):
+            st = branch_point(pr, a, (0.0, None))
+        if not st.info["converged"]:
+            return np.nan, np.nan
+        solved[a] = ((st.l2 - st.l1) / 2, st.delta)
+        return st.p_mean / pr.p_star(), st.delta / pr.amp
+
+    vals = np.array([at(a) for a in a_grid])
+    ok = np.isfinite(vals[:, 0])
+    A, P, D = a_grid[ok], vals[ok, 0], vals[ok, 1]
+
+    def refine(col, idx, sign):
+        lo, hi = A[max(idx - 1, 0)], A[min(idx + 1, A.size - 1)]
+        r = minimize_scalar(lambda a: sign * at(a)[col], bounds=(lo, hi), method="bounded",
+                            options={"xatol": 1e-8})
+        return r.x, sign * r.fun
+
+    a_pmin, p_min = refine(0, int(np.argmin(P)), 1.0)
+    a_dmin, d_min = refine(1, int(np.argmin(D)), 1.0)
+    above = A > a_pmin
+    imax = int(np.argmax(np.where(above, P, -np.inf)))
+    a_pmax, p_max = refine(0, imax, -1.0) if 0 < imax < A.size - 1 else (np.nan, np.nan)
+    cross = np.flatnonzero((P[:-1] < 0) & (P[1:] > 0) & (A[:-1] >= a_pmin))
+    a_zero = (brentq(lambda a: at(a)[0], A[cross[0]], A[cross[0] + 1], xtol=1e-12)
+              if cross.size else np.nan)
+    T = np.nan
+    if np.isfinite(a_zero):
+        nodes = 0.5 * (a_zero + a_dmin) + 0.5 * (a_zero - a_dmin) * np.cos(
+            np.pi * (np.arange(cheb) + 0.5) / cheb)
+        pv = np.array([at(a) for a in nodes])
+        t = (2 * nodes - a_zero - a_dmin) / (a_zero - a_dmin)
+        cp, cd = C.chebfit(t, pv[:, 0], cheb - 1), C.chebfit(t, pv[:, 1], cheb - 1)
+        integrand = C.chebint(C.chebmul(cp, C.chebder(cd)))
+        T = 2 * np.pi * float(C.chebval(-1.0, integrand) - C.chebval(1.0, integrand))
+    return dict(a_pmin=a_pmin, p_min=p_min, a_pmax=a_pmax, p_max=p_max, a0=a_zero,
+                a_dmin=a_dmin, delta_min=d_min, p_dmin=at(a_dmin)[0], T=T,
+                branch={"a_tilde": A, "p_tilde": P, "delta_tilde": D})

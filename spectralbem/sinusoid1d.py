@@ -12,8 +12,9 @@ Kernel (seed Eq. (13) / (A.18), with p = -σ so that u = ∫ C p)
     material (the glassy log singularity of Eq. 13: J(0) = 1/E∞) and E_ref = E for an elastic
     one (R = 0).  ``log|2 sin(θ/2)| = log|θ| + log sinc(θ/2π)``: the first term is integrated
     exactly against the basis (∫ log|ξ-σ| T_m(σ)/√(1-σ²) dσ = -(π/m) T_m(ξ)), the rest is
-    smooth.  R has Fourier coefficients ``2(1-ν²)(1/E(nkv) - 1/E∞)/(|n|k)``: its 1/n² tail is
-    summed in closed form (Clausen function Cl2), the converging rest is tabulated by FFT.  The
+    smooth.  R has Fourier coefficients ``2(1-ν²)(1/E(nkv) - 1/E∞)/(|n|k)``: its 1/n² and
+    1/n³ tails are summed in closed form (Clausen functions Cl2, Cl3), the rest is tabulated by
+    FFT and interpolated, with the Clausen kinks at the origin evaluated exactly.  The
     smooth part is integrated against all basis functions at once by a DCT in φ (σ = cos φ).
 
 Edge energy balance (Eqs. 3, 7-10, 16-17, 20-21) with an explicit advance width a0
@@ -30,6 +31,7 @@ Units follow :mod:`spectralbem.conventions`; :func:`solve` is the dimensionless 
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -64,10 +66,55 @@ def clausen2(theta) -> np.ndarray:
     return out
 
 
+_ZETA3 = 1.2020569031595942
+
+
+def clausen3(theta) -> np.ndarray:
+    """Cl3(θ) = Σ cos(nθ)/n³ = ζ(3) - ∫₀^θ Cl2 (series on (-π, π], 1e-14 absolute)."""
+    r = np.mod(np.asarray(theta, dtype=float) + np.pi, 2 * np.pi) - np.pi
+    r2 = r * r
+    out = _ZETA3 - 0.75 * r2
+    nz = r != 0
+    out[nz] += 0.5 * r2[nz] * np.log(np.abs(r[nz]))
+    pw = r2 * r2
+    for kk, cf in zip(_K, _CL2, strict=True):
+        out -= cf * pw / (2 * kk + 2)
+        pw = pw * r2
+    return out
+
+
 def log_sinc(theta) -> np.ndarray:
     """log(2 sin(θ/2)/θ) for |θ| < 2π (analytic; -inf at ±2π)."""
+    h = 0.5 * np.asarray(theta, dtype=float)
+    r = np.sin(h)
+    np.divide(r, h, out=r, where=h != 0)
+    r[h == 0] = 1.0
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.log(np.sinc(np.asarray(theta) / (2 * np.pi)))
+        return np.log(r, out=r)
+
+
+@functools.lru_cache(maxsize=16)
+def _leggauss(n: int):
+    return np.polynomial.legendre.leggauss(n)
+
+
+def _hermite(vals, slopes, pos, dx, periodic=False):
+    """Cubic Hermite interpolation on a uniform grid; ``pos`` in units of the spacing."""
+    i0 = np.floor(pos).astype(np.intp)
+    t = pos - i0
+    n = vals.size
+    if periodic:
+        i0 %= n
+        i1 = i0 + 1
+        i1[i1 == n] = 0
+    else:
+        i0 = np.clip(i0, 0, n - 2)
+        t = pos - i0
+        i1 = i0 + 1
+    t2 = t * t
+    tm1 = t - 1.0
+    return ((1 + 2 * t) * tm1 * tm1 * vals[i0] + t2 * (3 - 2 * t) * vals[i1]
+            + dx * (t * tm1 * tm1 * slopes[i0] + t2 * tm1 * slopes[i1]))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -107,27 +154,66 @@ class Kernel1D:
         nc = max(wc / (k * abs(v)), 1.0)
         self.scale = abs(v) / wc  # relaxation length of the kernel (m)
         if size is None:
-            size = int(2 ** np.clip(np.ceil(np.log2(200 * nc)), 12, 20))
+            size = int(2 ** np.clip(np.ceil(np.log2(64 * nc)), 12, 20))
         self.table_size = size
         whi = 1e7 * max(wc, size * k * abs(v))
-        self.alpha = float(whi * np.imag(mat.compliance(np.array([whi]))[0]))  # Im D ~ α/ω
+        Dhi = mat.compliance(np.array([whi]))[0] - Jinf
+        self.alpha = float(whi * Dhi.imag)  # Im D ~ α/ω (no cancellation in Im)
+        # Re D ~ β2/ω²: estimated where the asymptote holds but Re(1/E) - 1/E∞ is still
+        # resolved in float64 (100× beyond |D| = 1e-4 ΔJ)
+        small = D < 1e-4 * dJ
+        w2 = 100 * (w[np.argmax(small)] if np.any(small) else w[-1])
+        self.beta2 = float(w2**2 * (mat.compliance(np.array([w2]))[0] - Jinf).real)
         n = np.arange(1, size // 2)
-        Rn = self.f * (mat.compliance(n * k * v) - Jinf - 1j * self.alpha / (n * k * v)) / (n * k)
+        w_n = n * k * v
+        Dn = mat.compliance(w_n) - Jinf - 1j * self.alpha / w_n - self.beta2 / w_n**2
+        Rn = self.f * Dn / (n * k)
         spec = np.zeros(size, dtype=complex)
         spec[1: size // 2] = Rn
         spec[size - n] = np.conj(Rn)
         self.dx = self.lam / size
         self.nodes = np.arange(size) * self.dx
-        # converging part by FFT + the α/ω tail summed exactly: -(2fα/(λk²v)) Cl2(kx)
-        tail = -2.0 * self.f * self.alpha / (self.lam * k**2 * v)
-        self.table = (size / self.lam) * np.fft.ifft(spec).real + tail * clausen2(k * self.nodes)
+        # the asymptotic tails summed exactly: α/ω → Cl2, β2/ω² → Cl3
+        self.tail2 = -2.0 * self.f * self.alpha / (self.lam * k**2 * v)
+        self.tail3 = 2.0 * self.f * self.beta2 / (self.lam * k**3 * v**2)
+        # converging part: values and slopes for cubic Hermite interpolation (it varies on
+        # the relaxation length v/ω_c, so linear interpolation would cost (δ/ℓ)²)
+        freq = np.fft.fftfreq(size, d=1.0 / size) * k
+        self.table = (size / self.lam) * np.fft.ifft(spec).real + self._tails(self.nodes)
+        self.slope = ((size / self.lam) * np.fft.ifft(1j * freq * spec).real
+                      + self._tails_slope(self.nodes))
+        # near the origin the Clausen kinks defeat interpolation: there the tails are exact
+        self._near = 16 * self.dx
+        nn = np.arange(-16, 17) * self.dx
+        self._near_table = (nn[0], self._tails(nn), self._tails_slope(nn))
+
+    def _tails(self, d):
+        kd = self.k * np.asarray(d, dtype=float)
+        return self.tail2 * clausen2(kd) + self.tail3 * clausen3(kd)
+
+    def _tails_slope(self, d):
+        """d/dx of the tails (d/dθ Cl2 = -log|2 sin(θ/2)|, d/dθ Cl3 = -Cl2); 0 at the origin,
+        where the exact near-origin correction takes over."""
+        kd = self.k * np.asarray(d, dtype=float)
+        with np.errstate(divide="ignore"):
+            lg = -np.log(np.abs(2 * np.sin(kd / 2)))
+        lg[~np.isfinite(lg)] = 0.0
+        return self.k * (self.tail2 * lg - self.tail3 * clausen2(kd))
 
     def remainder(self, d) -> np.ndarray:
         """R(d): the viscoelastic part of the kernel (zero for elastic)."""
         d = np.asarray(d, dtype=float)
         if self.table is None:
             return np.zeros_like(d)
-        return np.interp(d, self.nodes, self.table, period=self.lam)
+        r = _hermite(self.table, self.slope, np.mod(d, self.lam) / self.dx, self.dx,
+                     periodic=True)
+        dw = np.mod(d + self.lam / 2, self.lam) - self.lam / 2
+        near = np.abs(dw) < self._near
+        if np.any(near):
+            dn = dw[near]
+            x0, tv, ts = self._near_table
+            r[near] += self._tails(dn) - _hermite(tv, ts, (dn - x0) / self.dx, self.dx)
+        return r
 
     def smooth(self, d) -> np.ndarray:
         """C(d) minus its log|k d| singularity, for |d| < λ."""
@@ -178,7 +264,13 @@ class Domain:
         self.x = self.c + self.a * self.xi
         self.phi = (np.arange(self.Q) + 0.5) * np.pi / self.Q
         self.xq = self.c + self.a * np.cos(self.phi)  # Gauss-Chebyshev nodes
-        self.Tq = np.cos(np.arange(self.M)[:, None] * self.phi[None, :])  # (M, Q)
+
+    def series(self, coef) -> np.ndarray:
+        """Σ_m c_m cos(m φ_j) at the Q Gauss-Chebyshev angles (a DCT-III)."""
+        x = np.zeros(self.Q)
+        x[: self.M] = coef
+        x[1: self.M] *= 0.5
+        return sfft.dct(x, type=3)
 
     def response(self, kernel: Kernel1D, x) -> np.ndarray:
         """Matrix A with u(x) = A @ c for points x (any position within a period)."""
@@ -204,7 +296,7 @@ class Domain:
 
     def integrate(self, coef, values) -> float:
         """∫ p f dx over the contact, f given at the Gauss-Chebyshev nodes ``self.xq``."""
-        return float(self.a * (np.pi / self.Q) * np.dot(coef @ self.Tq, values))
+        return float(self.a * (np.pi / self.Q) * np.dot(self.series(coef), values))
 
     def integrate_range(self, coef, f, x_lo: float, x_hi: float, n: int | None = None) -> float:
         """∫_{x_lo}^{x_hi} p f dx over a sub-range of the contact, f smooth.
@@ -215,7 +307,7 @@ class Domain:
         n = n or self.M + 48
         lo = np.arccos(np.clip((x_hi - self.c) / self.a, -1, 1))
         hi = np.arccos(np.clip((x_lo - self.c) / self.a, -1, 1))
-        t, wt = np.polynomial.legendre.leggauss(n)
+        t, wt = _leggauss(n)
         phi = 0.5 * (hi + lo) + 0.5 * (hi - lo) * t
         x = self.c + self.a * np.cos(phi)
         series = np.cos(phi[:, None] * np.arange(self.M)[None, :]) @ coef
@@ -269,13 +361,14 @@ class Sinusoid1D:
     velocity : sliding speed v (m/s), the indenter moves toward +x; v = 0 is elastic (E0)
     dgamma : work of adhesion Δγ (J/m²); 0 = adhesiveless (closure K = 0 at both edges)
     a0 : advance width of the edge energy balance (m); 0 = strict limit through the SIF
-    modes : Chebyshev modes M; quad : Gauss-Chebyshev / DCT nodes Q (default from v τ / a)
+    modes : Chebyshev modes M (default from the relaxation length ℓ = v/ω_c: 4√(λ/ℓ), 64-512)
+    quad : Gauss-Chebyshev / DCT nodes Q (default from ℓ)
     E_ref : modulus of the dimensionless groups (default the material's E0)
     """
 
     def __init__(self, material: Material, k: float, amplitude: float, velocity: float = 0.0,
-                 dgamma: float = 0.0, a0: float = 0.0, modes: int = 64, quad: int | None = None,
-                 strip_nodes: int = 48, E_ref: float | None = None):
+                 dgamma: float = 0.0, a0: float = 0.0, modes: int | None = None,
+                 quad: int | None = None, strip_nodes: int = 48, E_ref: float | None = None):
         self.material = material
         self.E_ref = material.E0 if E_ref is None else float(E_ref)
         self.k = float(k)
@@ -284,13 +377,18 @@ class Sinusoid1D:
         self.v = float(velocity)
         self.dgamma = float(dgamma)
         self.a0 = float(a0)
-        self.M = int(modes)
         self.kernel = Kernel1D(material, self.k, self.v)
+        if modes is None:  # resolve the edge boundary layer of the relaxation length ℓ:
+            modes = 64  # Chebyshev spacing at the edges ~ a(π/M)² ≪ ℓ
+            if self.kernel.visco:
+                modes = int(np.clip(32 * np.ceil(4 * np.sqrt(self.lam / self.kernel.scale) / 32),
+                                    64, 512))
+        self.M = int(modes)
         if quad is None:  # resolve the kernel's relaxation length v/ω_c across a period
             quad = 1024  # elastic: the smooth part log sinc(θ/2π) is analytic
             if self.kernel.visco:
                 quad = int(2 ** np.clip(np.ceil(np.log2(0.5 * self.lam / self.kernel.scale)),
-                                        12, 14))
+                                        11, 14))
         self.Q = int(quad)
         self.strip_nodes = strip_nodes
         self.Estar_tip = self.kernel.E_tip / (1 - material.nu**2)
@@ -395,15 +493,20 @@ class Sinusoid1D:
         """p* = E0* k Λ/2 (Westergaard full-contact pressure), with E0 = ``E_ref``."""
         return self.E_ref / (1 - self.material.nu**2) * self.k * self.amp / 2
 
-    def equilibrium(self, *, delta=None, p_mean=None, guess=None, tol=1e-12):
-        """Partial-contact equilibrium at given Δ or p∞ from a guess (l1, l2)."""
+    def equilibrium(self, *, delta=None, p_mean=None, guess=None, tol=1e-11, ftol=1e-8):
+        """Partial-contact equilibrium at given Δ or p∞ from a guess (l1, l2).
+
+        Converged when both edge residuals ``√(δL_i/(a0 Δγ)) - 1`` (or the SIF residuals) are
+        below ``ftol`` — MINPACK's own flag is not used, since at tiny a0 the residual has a
+        noise floor of ~1e-10 that stops its step-size test, not the balance.
+        """
         control, value = ("delta", delta) if delta is not None else ("p_mean", p_mean)
         if guess is None:
             guess = self.elastic_guess(control, value)
         sol = root(self._residual, np.asarray(guess, float), args=(control, value),
                    method="hybr", options={"xtol": tol})
         l1, l2 = sol.x
-        ok = bool(sol.success) and np.all(np.abs(sol.fun) < 1e-8)
+        ok = bool(np.all(np.abs(sol.fun) < ftol))
         st = self.solve_domain(l1, l2, **{control: value})
         if self.dgamma and self.a0:
             self.release_rates(st)
@@ -429,6 +532,37 @@ class Sinusoid1D:
         return (a / self.k, a / self.k)
 
     # -- outputs ------------------------------------------------------------------------
+    def fourier_coefficients(self, state: State, n) -> np.ndarray:
+        """p_n = ∫ p e^{-i n k x} dx, exactly: the basis T_m(ξ)/√(1-ξ²) transforms to
+        π (-i)^m J_m(n k a)."""
+        from scipy.special import jv
+
+        d = state.domain
+        n = np.asarray(n, dtype=float)
+        m = np.arange(self.M)
+        z = n * self.k * d.a
+        series = np.zeros(n.shape, dtype=complex)
+        for mm in m:  # loop over the few modes, vectorised over n
+            series += state.coef[mm] * (-1j) ** mm * jv(mm, z)
+        return d.a * np.pi * np.exp(-1j * n * self.k * d.c) * series
+
+    def friction_dissipation(self, state: State, nmax: int = 200_000) -> float:
+        """μ from the dissipation, physics.md §4.2 in 1D:
+        μ = 4(1-ν²)/(λ² p∞) Σ_{n>0} |p_n|² Im[1/E(nkv)].
+
+        The sum is taken to ``nmax`` and its tail added from the edge asymptote
+        |p_n|² → (K1² + K2²)/(2 n k) with Im[1/E] → α/(n k v).
+        """
+        if not self.kernel.visco:
+            return 0.0
+        n = np.arange(1, nmax + 1)
+        pn = self.fourier_coefficients(state, n)
+        imJ = np.imag(self.kernel.compliance(n))
+        total = np.sum(np.abs(pn) ** 2 * imJ)
+        K1, K2 = state.K
+        total += (K1**2 + K2**2) * self.kernel.alpha / (2 * self.k**2 * self.v) / (nmax + 0.5)
+        return float(4 * (1 - self.material.nu**2) / (self.lam**2 * state.p_mean) * total)
+
     def friction(self, state: State):
         """μ of Eq. (19): -(1/(λ p∞)) ∫ p u' dx with u' = w' = -Λk sin(kx) on the contact."""
         d = state.domain
@@ -443,7 +577,8 @@ NXI = 65  # contact-mesh points stored per state (Chebyshev points of the second
 
 
 def dimensionless_problem(zeta: float, beta: float, Gamma: float, a0_tilde: float = 0.0, *,
-                          adhesive: bool = True, modes: int = 64, quad: int | None = None,
+                          adhesive: bool = True, modes: int | None = None,
+                          quad: int | None = None,
                           strip_nodes: int = 48) -> Sinusoid1D:
     """Problem in units k = Λ = E0* = τ = 1, so p̃ = 2p, Δγ = πΓ, v = ζ, a0 = ã0.
 
@@ -522,7 +657,7 @@ SCALARS = {
 
 
 def solve(zeta: float, beta: float, Gamma: float, *, p_tilde: float | None = None,
-          delta_tilde: float | None = None, a0_tilde: float, modes: int = 64, guess=None,
+          delta_tilde: float | None = None, a0_tilde: float, modes: int | None = None, guess=None,
           adhesiveless_reference: bool = True, quad: int | None = None):
     """One state of the seed's sinusoid problem; returns an xarray Dataset.
 
@@ -542,9 +677,14 @@ def solve(zeta: float, beta: float, Gamma: float, *, p_tilde: float | None = Non
             raise ValueError(f"{name} = {v!r} must be finite")
     pr = dimensionless_problem(zeta, beta, Gamma, a0_tilde, adhesive=Gamma > 0, modes=modes,
                                quad=quad)
+    ratio = _modulus_ratio(zeta, beta)
+    if p_tilde is not None and Gamma == 0 and p_tilde >= abs(ratio):
+        return _full_contact_dataset(zeta, beta, Gamma, a0_tilde, p_tilde, ratio)
     ctl = {"p_mean": p_tilde * pr.p_star()} if p_tilde is not None else {"delta": delta_tilde}
     st = pr.equilibrium(guess=guess, **ctl)
     status = _status(pr, st)
+    if status == "full_contact" and p_tilde is not None:
+        return _full_contact_dataset(zeta, beta, Gamma, a0_tilde, p_tilde, ratio)
     vals = _summary(pr, st)
     if status != "partial":
         for key in vals:
@@ -583,8 +723,43 @@ def solve(zeta: float, beta: float, Gamma: float, *, p_tilde: float | None = Non
     return ds
 
 
+def _modulus_ratio(zeta, beta) -> complex:
+    """E(ζ)/E0 of the SLS at ω = kv (seed convention)."""
+    if zeta == 0 or beta == 1:
+        return 1.0 + 0j
+    if np.isinf(zeta):
+        return complex(beta)
+    return (1 - 1j * zeta) / (1 - 1j * zeta / beta)
+
+
+def _full_contact_dataset(zeta, beta, Gamma, a0_tilde, p_tilde, ratio):
+    """Full contact, closed form (physics.md §4.3): p̃(x) = p̃∞ + Re[(E/E0) e^{ikx}],
+    μ/Λ̃ = -Im[E/E0]/(2p̃∞), Δ̃ = 1 (zero-mean gauge: the mean gap Λ - Δ vanishes)."""
+    import xarray as xr
+
+    x = np.linspace(-np.pi, np.pi, NXI)
+    p = p_tilde + np.real(ratio * np.exp(1j * x))
+    mu = -np.imag(ratio) / (2 * p_tilde)
+    vals = dict(a_tilde=np.pi, e_tilde=0.0, p_tilde=p_tilde, delta_tilde=1.0, mu_bar=mu,
+                mu_bar_adhesive=0.0 if Gamma > 0 else 0.0, G1_over_dgamma=np.nan,
+                G2_over_dgamma=np.nan, a_tilde_adhesiveless=np.pi if p_tilde >= abs(ratio)
+                else np.nan, e_tilde_adhesiveless=0.0, mu_bar_adhesiveless=mu)
+    data = {k_: ((), float(v), {"long_name": SCALARS.get(k_, k_), "units": "1"})
+            for k_, v in vals.items()}
+    data["status"] = ((), "full_contact", {"long_name": "partial | full_contact | detached | "
+                                                      "not_converged"})
+    data["sigma_tilde"] = (("x",), -p, {"long_name": "normal stress σ/p* = -p̃", "units": "1"})
+    data["u_tilde"] = (("x",), np.cos(x), {"long_name": "u/Λ on the contact", "units": "1"})
+    ds = xr.Dataset(data, coords={"x_tilde": (("x",), x, {"long_name": "k x", "units": "1"})})
+    ds.attrs.update(model="sinusoid1d", zeta=float(zeta), beta=float(beta), Gamma=float(Gamma),
+                    a0_tilde=float(a0_tilde), control="load", converged=1,
+                    solver_message="full contact (closed form)", residual=0.0,
+                    l1_tilde=np.pi, l2_tilde=np.pi)
+    return ds
+
+
 def sweep(zeta, beta: float, Gamma: float, *, p_tilde=None, delta_tilde=None, a0_tilde: float,
-          modes: int = 64, progress: bool = False):
+          modes: int | None = None, progress: bool = False):
     """ζ sweep with continuation from the previous point; one Dataset with dimension zeta.
 
     Points are solved in increasing ζ, each started from the previous converged edges;
@@ -658,7 +833,7 @@ def trace_branch(pr: Sinusoid1D, a_values):
 
 
 def special_points(zeta: float, beta: float, Gamma: float, *, a0_tilde: float,
-                   modes: int = 64, n: int = 40, cheb: int = 20):
+                   modes: int | None = None, n: int = 40, cheb: int = 20):
     """Pull-off (load and fixed Δ), zero-load contact, snap-in to full contact and toughness.
 
     Traces the branch in ã (grid refined toward small ã), refines each extremum by a bounded

@@ -1,0 +1,166 @@
+"""The seed's 1D method (Section 3) against Westergaard, Johnson (1995), the viscoelastic
+closed forms and the energy identities; the seed's qualitative claims (physics.md §8)."""
+
+import numpy as np
+import pytest
+
+from spectralbem import reference as ref
+from spectralbem import sinusoid1d as s1
+from spectralbem.materials import Elastic, StandardLinearSolid
+
+GAMMA, BETA = 0.008, 10.0
+
+
+def test_clausen_functions():
+    import mpmath as mp
+
+    th = np.linspace(-7, 7, 41)
+    np.testing.assert_allclose(s1.clausen2(th), [float(mp.clsin(2, t)) for t in th], atol=1e-13)
+    np.testing.assert_allclose(s1.clausen3(th), [float(mp.clcos(3, t)) for t in th], atol=1e-13)
+
+
+def test_viscoelastic_kernel_against_direct_fourier_sum():
+    """R(x) from the table + Clausen tails equals the brute-force series (truncation < 1e-7)."""
+    mat = StandardLinearSolid(1.0, BETA, 1.0, 0.0)
+    kern = s1.Kernel1D(mat, 1.0, 0.1)
+    d = np.array([1e-3, 0.01, 0.3, 2.5, -0.5])
+    n = np.arange(1, 2_000_001)
+    Rn = 2 * (mat.compliance(0.1 * n) - 1 / BETA) / n
+    direct = [np.sum((Rn * np.exp(1j * n * x)).real) / np.pi for x in d]
+    # the direct sum's own truncation error is ~ α/(π ζ N) ≈ 1.4e-6 near the origin
+    np.testing.assert_allclose(kern.remainder(d), direct, atol=3e-6)
+
+
+@pytest.mark.parametrize("p_tilde", [0.05, 0.15, 0.5])
+def test_westergaard(p_tilde):
+    ds = s1.solve(0.0, BETA, 0.0, p_tilde=p_tilde, a0_tilde=0.0, adhesiveless_reference=False)
+    # the spectral method is exact for Westergaard's pressure up to round-off
+    assert ds.a_tilde.item() == pytest.approx(ref.westergaard_a(p_tilde), rel=1e-10)
+    assert ds.delta_tilde.item() == pytest.approx(ref.westergaard_delta(p_tilde), rel=1e-10)
+    assert abs(ds.e_tilde.item()) < 1e-10
+
+
+@pytest.mark.parametrize("zeta, beta_eff", [(0.0, 1.0), (np.inf, BETA)])
+@pytest.mark.parametrize("a0", [0.0, 1e-6])
+@pytest.mark.parametrize("p_tilde", [0.15, -0.02])
+def test_johnson_elastic_limits(zeta, beta_eff, a0, p_tilde):
+    ds = s1.solve(zeta, BETA, GAMMA, p_tilde=p_tilde, a0_tilde=a0, adhesiveless_reference=False)
+    a_ref = ref.johnson_a(p_tilde, GAMMA, beta_eff)
+    # acceptance: ã within 1e-5 (a finite a0 moves the edges in by a0/2 ~ 5e-7)
+    assert ds.a_tilde.item() == pytest.approx(a_ref, rel=1e-5)
+    if a0 == 0:
+        assert ds.delta_tilde.item() == pytest.approx(
+            ref.johnson_delta(a_ref, p_tilde, beta_eff), rel=1e-6)
+    # G1 = G2 = Δγ within 1e-4 (exact in the elastic limit: δL_P = 0)
+    assert ds.G1_over_dgamma.item() == pytest.approx(1.0, abs=1e-4)
+    assert ds.G2_over_dgamma.item() == pytest.approx(1.0, abs=1e-4)
+
+
+@pytest.mark.parametrize("zeta, beta_eff", [(0.0, 1.0), (np.inf, BETA)])
+def test_special_points_elastic_limits(zeta, beta_eff):
+    sp = s1.special_points(zeta, BETA, GAMMA, a0_tilde=0.0, n=30, cheb=16)
+    rj = ref.johnson_special_points(GAMMA, beta_eff)
+    for key in ("p_min", "a_pmin", "p_max", "a_pmax", "a0", "delta_min", "p_dmin", "T"):
+        assert sp[key] == pytest.approx(rj[key], rel=1e-3), key  # acceptance: 1e-3
+    # and the physics.md §2.5/2.6 tabulated values
+    table = {0.0: (-0.047881, 0.591038, 0.06566), np.inf: (-0.102716, 8.354, 0.03382)}[zeta]
+    assert sp["p_min"] == pytest.approx(table[0], rel=1e-3)
+    assert sp["p_max"] == pytest.approx(table[1], rel=1e-3)
+    assert sp["T"] == pytest.approx(table[2], rel=1e-3)
+
+
+def test_finite_a0_moves_edges_inward_linearly():
+    """Elastic, fixed Δ: l_i(a0) = l_i(0) - c a0 + O(a0²).
+
+    The singular tip terms alone (Irwin: δL/a0 = K₋K₊/(2E*)) give c = ½; the next terms of the
+    tip expansion enter at the same order, and for this state c = 0.4598, robust to modes and
+    strip nodes (checked at M = 64/128, 48/96 nodes).  Asserted: c within 10 % of ½, the
+    same at both edges, and the remainder quadratic.
+    """
+    base = s1.solve(0.0, BETA, GAMMA, delta_tilde=0.3, a0_tilde=0.0,
+                    adhesiveless_reference=False)
+    c = {}
+    for a0 in (1e-4, 1e-3, 4e-3):
+        ds = s1.solve(0.0, BETA, GAMMA, delta_tilde=0.3, a0_tilde=a0,
+                      adhesiveless_reference=False)
+        c[a0] = [(base.attrs[k] - ds.attrs[k]) / a0 for k in ("l1_tilde", "l2_tilde")]
+    assert c[1e-3][0] == pytest.approx(c[1e-3][1], rel=1e-6)  # symmetric elastic contact
+    assert c[1e-4][0] == pytest.approx(0.5, rel=0.1)
+    # shift = c0 a0 + c1 a0²: the slope of c(a0) is the same on both intervals (10 %)
+    s1_ = (c[1e-3][0] - c[1e-4][0]) / 0.9e-3
+    s2_ = (c[4e-3][0] - c[1e-3][0]) / 3e-3
+    assert s2_ == pytest.approx(s1_, rel=0.1)
+
+
+@pytest.fixture(scope="module")
+def visco_state():
+    pr = s1.dimensionless_problem(0.1, BETA, GAMMA, 0.01)
+    st = pr.equilibrium(p_mean=0.15 * pr.p_star())
+    assert st.info["converged"]
+    return pr, st
+
+
+def test_energy_identities(visco_state):
+    pr, st = visco_state
+    for ew in st.work:
+        # Eq. (6): δL = δU + δL_P, each from its own quadrature (acceptance 1e-10)
+        assert ew.dL == pytest.approx(ew.dU + ew.dLP, rel=1e-10)
+        assert abs(ew.dLP) > 1e-3 * abs(ew.dL)  # the viscoelastic term is really there
+    el = s1.Sinusoid1D(Elastic(1.0, 0.0), 1.0, 1.0, dgamma=np.pi * GAMMA, a0=0.01)
+    est = el.equilibrium(p_mean=0.075)
+    for ew in est.work:  # Betti reciprocity: δL_P = 0 for an elastic material
+        assert abs(ew.dLP) < 1e-10 * abs(ew.dL)
+
+
+def test_friction_energy_balance(visco_state):
+    """μ (Eq. 19) = bulk dissipation (physics.md §4.2) + the sharp-tip energy exchange
+    (K1² - K2²)/(2E∞* λ p∞), which vanishes in the strict limit a0 = 0 and without adhesion."""
+    pr, st = visco_state
+    K1, K2 = st.K
+    tip = (K1**2 - K2**2) / (2 * pr.Estar_tip * pr.lam * st.p_mean)
+    # the dissipation series is summed to 2e4 terms with an asymptotic tail: ~1e-6 accurate
+    assert pr.friction(st) == pytest.approx(pr.friction_dissipation(st, 20000) + tip, rel=1e-5)
+    plain = s1.dimensionless_problem(0.3, BETA, 0.0)
+    s0 = plain.equilibrium(p_mean=0.075)
+    assert plain.friction(s0) == pytest.approx(plain.friction_dissipation(s0, 20000), rel=1e-6)
+
+
+# physics.md §4.3 (independent solver, ±1e-3 in ã and ẽ, 4-5 digits in μ)
+@pytest.mark.parametrize("zeta, a_ref, e_ref, mu_ref", [(0.1, 0.7497, 0.0445, 0.07807),
+                                                        (1.0, 0.4068, 0.2681, 0.34400),
+                                                        (10.0, 0.2472, 0.0572, 0.06297)])
+def test_adhesiveless_viscoelastic_table(zeta, a_ref, e_ref, mu_ref):
+    ds = s1.solve(zeta, BETA, 0.0, p_tilde=0.15, a0_tilde=0.0, adhesiveless_reference=False)
+    assert ds.a_tilde.item() == pytest.approx(a_ref, abs=1e-3)
+    assert ds.e_tilde.item() == pytest.approx(e_ref, abs=1e-3)
+    assert ds.mu_bar.item() == pytest.approx(mu_ref, rel=2e-4)
+
+
+def test_adhesiveless_asymptotes_and_full_contact():
+    # low speed: μ/Λ̃ ≈ (ζ/2)(1-1/β)(2-p̃); O(ζ) corrections: 1 % at ζ = 3e-3
+    ds = s1.solve(3e-3, BETA, 0.0, p_tilde=0.15, a0_tilde=0.0, adhesiveless_reference=False)
+    assert ds.mu_bar.item() == pytest.approx(1.5e-3 * 0.9 * 1.85, rel=1e-2)
+    # high speed: μ/Λ̃ ≈ ((β-1)/(βζ)) p̃ (½ - ln(p̃/β)); O(1/ζ) corrections: 1e-3 at ζ = 1e3
+    ds = s1.solve(1e3, BETA, 0.0, p_tilde=0.15, a0_tilde=0.0, adhesiveless_reference=False)
+    assert ds.mu_bar.item() == pytest.approx(0.9 / 1e3 * 0.15 * (0.5 - np.log(0.015)),
+                                             rel=1e-3)
+    # full contact above p̃ = |E(ζ)|/E0, closed form
+    ratio = ref.sls_ratio(1.0, BETA)
+    ds = s1.solve(1.0, BETA, 0.0, p_tilde=1.01 * abs(ratio), a0_tilde=0.0)
+    assert ds.status.item() == "full_contact"
+    assert ds.mu_bar.item() == pytest.approx(ref.visco_full_contact_mu(1.01 * abs(ratio), ratio),
+                                             rel=1e-12)
+    below = s1.solve(1.0, BETA, 0.0, p_tilde=0.9 * abs(ratio), a0_tilde=0.0,
+                     adhesiveless_reference=False)
+    assert below.status.item() == "partial" and below.a_tilde.item() < np.pi
+
+
+def test_bad_inputs():
+    with pytest.raises(ValueError, match="beta"):
+        s1.solve(0.1, 0.5, GAMMA, p_tilde=0.1, a0_tilde=0.01)
+    with pytest.raises(ValueError, match="a0_tilde"):
+        s1.solve(0.1, BETA, GAMMA, p_tilde=0.1, a0_tilde=-1.0)
+    with pytest.raises(ValueError, match="exactly one"):
+        s1.solve(0.1, BETA, GAMMA, a0_tilde=0.01)
+    with pytest.raises(ValueError, match="zeta"):
+        s1.solve(np.nan, BETA, GAMMA, p_tilde=0.1, a0_tilde=0.01)

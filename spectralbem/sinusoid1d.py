@@ -511,14 +511,34 @@ class Sinusoid1D:
         if self.dgamma and self.a0:
             self.release_rates(st)
         st.info = {"converged": ok, "message": sol.message, "nfev": sol.nfev,
-                   "residual": float(np.max(np.abs(sol.fun)))}
+                   "residual": float(np.max(np.abs(sol.fun))), "residuals": tuple(sol.fun),
+                   "control": (control, value)}
         return st
 
-    def elastic_guess(self, control, value):
-        """Symmetric Johnson (1995) contact with E0 at the same load (or a small contact)."""
+    def guesses(self, control, value):
+        """Starting edges to try: symmetric elastic contacts with E0, |E(kv)| and E∞."""
+        out = [self.elastic_guess(control, value)]
+        if self.kernel.visco:
+            for E in (abs(self.material.modulus(np.array([self.k * self.v]))[0]),
+                      self.material.Einf):
+                out.append(self.elastic_guess(control, value, E))
+        return out
+
+    def robust_equilibrium(self, *, delta=None, p_mean=None, guess=None):
+        """:meth:`equilibrium` from ``guess``, then from each of :meth:`guesses`."""
+        control, value = ("delta", delta) if delta is not None else ("p_mean", p_mean)
+        st = None
+        for g in ([guess] if guess is not None else []) + self.guesses(control, value):
+            st = self.equilibrium(guess=g, **{control: value})
+            if st.info["converged"]:
+                break
+        return st
+
+    def elastic_guess(self, control, value, E=None):
+        """Symmetric Johnson (1995) contact with modulus E (default E0) at the same load."""
         from . import reference as ref
 
-        beta = self.material.E0 / self.E_ref
+        beta = (self.material.E0 if E is None else E) / self.E_ref
         Gam = (1 - self.material.nu**2) * self.dgamma / (np.pi * self.E_ref * self.k
                                                          * self.amp**2)
         if control == "p_mean":
@@ -564,10 +584,18 @@ class Sinusoid1D:
         return float(4 * (1 - self.material.nu**2) / (self.lam**2 * state.p_mean) * total)
 
     def friction(self, state: State):
-        """μ of Eq. (19): -(1/(λ p∞)) ∫ p u' dx with u' = w' = -Λk sin(kx) on the contact."""
+        """μ of Eq. (19): -(1/(λ p∞)) ∫ p u' dx with u' = w' = -Λk sin(kx) on the contact.
+
+        Undefined (nan) at exactly zero mean pressure; see :meth:`friction_force`."""
+        if state.p_mean == 0.0:
+            return np.nan
+        return self.friction_force(state) / (self.lam * state.p_mean)
+
+    def friction_force(self, state: State) -> float:
+        """Tangential force per unit length and period, -∫ p u' dx (N/m)."""
         d = state.domain
         up = -self.amp * self.k * np.sin(self.k * d.xq)
-        return -d.integrate(state.coef, up) / (self.lam * state.p_mean)
+        return -d.integrate(state.coef, up)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -608,12 +636,29 @@ def _check_inputs(**kw):
 
 
 def _status(pr: Sinusoid1D, st: State) -> str:
+    """'partial', or why no partial equilibrium was found.
+
+    The residuals are √(δL_i/(a0Δγ)) - 1 (or K_i-based): negative means closing the strip at
+    edge i releases less than Δγ·a0, so the edge advances.  When the best attempt leaves an
+    edge that still wants to advance with the contact spanning most of the period, the
+    contact snaps into full contact; when an edge still wants to recede from a small contact,
+    it detaches.
+    """
     if st.info.get("converged"):
         return "partial"
     span = st.l1 + st.l2
+    res = st.info.get("residuals", (0.0, 0.0))
     if span > 0.98 * pr.lam:
         return "full_contact"
-    if span < 1e-3 * pr.lam:
+    if min(res) < -1e-3 and "control" in st.info:
+        # does the advancing edge still want to advance with the contact at 95 % of λ?
+        i = int(np.argmin(res))
+        ext = [st.l1, st.l2]
+        ext[i] = 0.95 * pr.lam - ext[1 - i]
+        control, value = st.info["control"]
+        if pr._residual(tuple(ext), control, value)[i] < 0:
+            return "full_contact"
+    if span < 1e-3 * pr.lam or (max(res) > 1e-3 and span < 0.1 * pr.lam):
         return "detached"
     return "not_converged"
 
@@ -635,9 +680,10 @@ def _summary(pr: Sinusoid1D, st: State) -> dict:
     else:
         G1 = G2 = np.nan
     dg = pr.dgamma if pr.dgamma > 0 else np.nan
-    out.update(G1_over_dgamma=G1 / dg, G2_over_dgamma=G2 / dg,
-               mu_bar_adhesive=(G1 - G2) / (k * pr.amp * lam * st.p_mean)
-               if pr.dgamma > 0 else 0.0)
+    mua = 0.0
+    if pr.dgamma > 0:
+        mua = (G1 - G2) / (k * pr.amp * lam * st.p_mean) if st.p_mean != 0 else np.nan
+    out.update(G1_over_dgamma=G1 / dg, G2_over_dgamma=G2 / dg, mu_bar_adhesive=mua)
     return out
 
 
@@ -681,7 +727,7 @@ def solve(zeta: float, beta: float, Gamma: float, *, p_tilde: float | None = Non
     if p_tilde is not None and Gamma == 0 and p_tilde >= abs(ratio):
         return _full_contact_dataset(zeta, beta, Gamma, a0_tilde, p_tilde, ratio)
     ctl = {"p_mean": p_tilde * pr.p_star()} if p_tilde is not None else {"delta": delta_tilde}
-    st = pr.equilibrium(guess=guess, **ctl)
+    st = pr.robust_equilibrium(guess=guess, **ctl)
     status = _status(pr, st)
     if status == "full_contact" and p_tilde is not None:
         return _full_contact_dataset(zeta, beta, Gamma, a0_tilde, p_tilde, ratio)
@@ -694,7 +740,7 @@ def solve(zeta: float, beta: float, Gamma: float, *, p_tilde: float | None = Non
                                     quad=quad)
         pt = vals["p_tilde"] if np.isfinite(vals["p_tilde"]) else p_tilde
         if pt is not None and np.isfinite(pt) and pt > 0:
-            s0 = ref.equilibrium(p_mean=pt * ref.p_star())
+            s0 = ref.robust_equilibrium(p_mean=pt * ref.p_star())
             v0 = _summary(ref, s0) if s0.info["converged"] else dict.fromkeys(vals, np.nan)
         else:
             v0 = dict.fromkeys(vals, np.nan)

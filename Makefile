@@ -30,6 +30,9 @@ bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet -e '.[test,bench]'
 	$(BIN)/python bench/run.py
 
+figures: $(STAMP)
+	MPLBACKEND=Agg $(BIN)/python cases/figures_1d.py
+
 lint: $(STAMP)
 	$(BIN)/ruff check spectralbem tests bench
 

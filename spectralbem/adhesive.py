@@ -1,0 +1,162 @@
+"""Adhesive contact on the periodic grid (JKR limit, seed Eq. 3 generalised to 2D).
+
+The mask A is the state.  Inside A any stress is allowed (tensile too); the mask moves by the
+front-layer energy balance of :mod:`spectralbem.criterion`, evaluated at fixed Δ:
+
+1. solve on A at the current Δ (load control: Δ is fixed exactly by the mean pressure, since
+   on a fixed mask p = p_w + Δ p_1 is linear in Δ);
+2. nucleation: cells outside A where the surfaces interpenetrate (g < 0) join A (jump-in);
+3. closing and opening layer tests; a front cell moves (one layer per iteration) when the
+   interpolated balanced edge lies beyond half a cell;
+4. repeat until no cell moves.  Hysteresis is physical: the mask is carried from one call to
+   the next (``mask0``), there is no global minimisation.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .contact import sliding_direction
+from .criterion import front_tests, sub_cell_offset
+from .masked import solve_masked
+from .spectral import SpectralOperator
+
+#: a front cell moves when the balanced edge l* lies more than this many cells beyond it
+DEAD_BAND = 0.6
+
+
+@dataclass
+class AdhesiveResult:
+    pressure: np.ndarray
+    mask: np.ndarray
+    penetration: float
+    mean_pressure: float
+    tests: object  # the FrontTest of the final state
+    offset_out: np.ndarray  # sub-cell offset l* - x_b on outer front cells (m)
+    outer_iterations: int
+    solves: int
+    converged: bool
+    status: str
+    message: str
+    history: list = field(default_factory=list)
+    a0_effective: float = 0.0  # m h, the band width used
+
+
+def _neighbour_mean(field_: np.ndarray, where: np.ndarray) -> np.ndarray:
+    """Mean of ``field_`` over the 4-neighbours where ``where`` holds (nan if none)."""
+    f = np.where(where & np.isfinite(field_), field_, 0.0)
+    c = (where & np.isfinite(field_)).astype(float)
+    s = np.zeros_like(f)
+    n = np.zeros_like(f)
+    for ax in (0, 1):
+        for sh in (1, -1):
+            s += np.roll(f, sh, axis=ax)
+            n += np.roll(c, sh, axis=ax)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(n > 0, s / n, np.nan)
+
+
+def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float, *,
+                   penetration: float | None = None, mean_pressure: float | None = None,
+                   mask0: np.ndarray | None = None, max_outer: int = 500,
+                   rtol: float = 1e-10) -> AdhesiveResult:
+    """Adhesive equilibrium under penetration or mean-pressure control.
+
+    ``dgamma``: work of adhesion Δγ (J/m², scalar or per-cell map); ``a0``: advance width (m),
+    at least one cell.
+    """
+    h = np.asarray(heights, dtype=float)
+    cell = op.cell
+    if (penetration is None) == (mean_pressure is None):
+        raise ValueError("give exactly one of penetration and mean_pressure")
+    hmin = min(cell.hx, cell.hy)
+    if not (a0 >= hmin * (1 - 1e-9)):
+        raise ValueError(f"a0 = {a0!r} must be at least one cell ({hmin!r} m)")
+    if a0 > 0.5 * max(cell.Lx, cell.Ly):
+        raise ValueError(f"a0 = {a0!r} must be smaller than half the cell")
+    from .criterion import layers
+
+    a0 = layers(a0, cell.hx, cell.hy) * hmin  # the band width actually used (m layers)
+    hmax = float(h.max())
+    vhat = sliding_direction(op)
+    mask = (h >= hmax - 1e-12 * max(1.0, abs(hmax))) if mask0 is None else mask0.copy()
+    delta = penetration
+    p = np.zeros(cell.shape)
+    p1 = None
+    seen = {}
+    solves = 0
+    history = []
+    status, message, converged = "not_converged", "", False
+    tests = None
+    s_out = np.full(cell.shape, np.nan)
+    it = 0
+    for it in range(1, max_outer + 1):
+        if not mask.any():
+            status, message = "detached", "the contact vanished"
+            break
+        if mask.all():
+            status, message = "full_contact", "the contact covers the cell"
+            break
+        if mean_pressure is not None:
+            rw = solve_masked(op, mask, h - hmax, x0=p, rtol=rtol)
+            r1 = solve_masked(op, mask, np.ones(cell.shape), x0=p1, rtol=rtol)
+            solves += 2
+            if not (rw.converged and r1.converged):
+                message = "masked solve: " + (rw.message if not rw.converged else r1.message)
+                break
+            p1 = r1.field
+            delta = (mean_pressure * mask.size - rw.field.sum()) / p1.sum()
+            p = rw.field + delta * p1
+        else:
+            res = solve_masked(op, mask, h - hmax + delta, x0=p, rtol=rtol)
+            solves += 1
+            if not res.converged:
+                message = "masked solve: " + res.message
+                break
+            p = res.field
+        w = h - hmax + delta
+        g = op.apply(p) - w
+        pen = ~mask & (g < -1e-12 * max(1.0, float(np.abs(w).max())))
+        if pen.any():  # contact nucleation (JKR jump-in)
+            mask |= pen
+            continue
+        tests = front_tests(op, w, mask, p, dgamma, a0, rtol=rtol, vhat=vhat)
+        solves += tests.solves
+        if not tests.converged:
+            message = "layer test: " + tests.message
+            break
+        from .criterion import front_cells
+
+        outer, inner = front_cells(mask)
+        s_out = sub_cell_offset(tests.F_close, _neighbour_mean(tests.F_open, inner), a0)
+        s_in = sub_cell_offset(_neighbour_mean(tests.F_close, outer), tests.F_open, a0)
+        # dead band of ±0.6 h: the outputs use the sub-cell front l*, so the cell boundary only
+        # has to lie near it; a band wider than ½ h stops two-state lattice cycles (under load
+        # control the Δ update couples the edges)
+        add = outer & (s_out > DEAD_BAND * hmin)
+        remove = inner & (s_in < -DEAD_BAND * hmin)
+        history.append((it, int(mask.sum()), int(add.sum()), int(remove.sum()), float(delta)))
+        if not add.any() and not remove.any():
+            converged, status, message = True, "partial", "converged"
+            break
+        key = hash(mask.tobytes())
+        if key in seen:
+            # a lattice cycle: accept if every balanced edge lies within one cell of its
+            # boundary (the outputs use the sub-cell front l*, not the boundary)
+            worst = max(np.nanmax(np.abs(np.where(outer, s_out, np.nan))),
+                        np.nanmax(np.abs(np.where(inner, s_in, np.nan))))
+            if worst <= hmin:
+                converged, status = True, "partial"
+                message = (f"lattice cycle of period {it - seen[key]}: accepted, every balanced "
+                           f"front within {worst / hmin:.2f} cell of its boundary")
+            else:
+                status, message = "not_converged", "the mask cycles between states"
+            break
+        seen[key] = it
+        mask = (mask | add) & ~remove
+    else:
+        message = f"not converged in {max_outer} outer iterations"
+    return AdhesiveResult(p, mask, float(delta), float(p.mean()), tests, s_out, it, solves,
+                          converged, status, message, history, a0)

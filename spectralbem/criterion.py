@@ -1,0 +1,217 @@
+"""The contact-domain criterion on the grid: the seed's local energy balance (Eqs. 3, 8-10)
+applied to whole front layers (criterion.md §4).
+
+At fixed Δ, for the mask A (the state):
+
+* closing test — the band D of width a0 just outside the front (cells whose centre lies within
+  a0 of A) is closed in one masked solve on A ∪ D; each cell of D does the work
+  ``δL_j = ½ g_j(A) t_j(A ∪ D) h²`` (Eq. 8 restricted to D, where it is supported, with the
+  tensile stress t = -p);
+* opening test — the band R of width a0 inside the front is opened, one solve on A ∖ R, and
+  ``δL_j = ½ g_j(A ∖ R) t_j(A) h²``: the same closing test taken from the state with R removed.
+
+The work of each band cell is attributed to its nearest front cell; per front cell
+``F = Σ δL_j / Σ Δγ_j h² - 1`` (per-cell Δγ maps are supported).  Trailing (v̂·n < 0) and
+leading (v̂·n > 0) parts of the front are tested in separate solves, so a y-invariant mask
+reproduces the 1D closure Eqs. (16)-(17) with the other edge fixed.  Single-cell tests are
+never used: they carry a mesh-independent bias (criterion.md §4.2).
+
+Closing is evaluated with the edge at the cell boundary x_b, opening with the edge at
+x_b - a0; F is interpolated linearly between them to the sub-cell front l*, and a front cell
+moves (one layer per iteration) only if l* lies beyond half a cell.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage
+
+from .masked import solve_masked
+from .spectral import SpectralOperator
+
+_CROSS = ndimage.generate_binary_structure(2, 1)
+
+
+def _wrap_edt(free: np.ndarray, sampling, pad: int):
+    """Periodic Euclidean distance (and nearest-target indices) to the cells where free is
+    False: ndimage's EDT on a wrap-padded copy."""
+    nx, ny = free.shape
+    px, py = min(pad, nx), min(pad, ny)
+    big = np.pad(free, ((px, px), (py, py)), mode="wrap")
+    dist, (ix, iy) = ndimage.distance_transform_edt(big, sampling=sampling, return_indices=True)
+    sl = (slice(px, px + nx), slice(py, py + ny))
+    return dist[sl], (ix[sl] - px) % nx, (iy[sl] - py) % ny
+
+
+def front_cells(mask: np.ndarray):
+    """(outer, inner): cells outside A 4-adjacent to A, and cells of A 4-adjacent to the
+    outside (periodic)."""
+    grow = np.zeros_like(mask)
+    for ax in (0, 1):
+        for s in (1, -1):
+            grow |= np.roll(mask, s, axis=ax)
+    shrink = np.ones_like(mask)
+    for ax in (0, 1):
+        for s in (1, -1):
+            shrink &= np.roll(mask, s, axis=ax)
+    return grow & ~mask, mask & ~shrink
+
+
+@dataclass
+class Bands:
+    """Bands of width a0 outside/inside the front, each cell assigned to a front cell."""
+
+    outer_band: np.ndarray  # bool, cells outside A within a0
+    outer_owner: np.ndarray  # flat index of the owning outer front cell (-1 elsewhere)
+    inner_band: np.ndarray
+    inner_owner: np.ndarray
+    outer_front: np.ndarray
+    inner_front: np.ndarray
+    normal: tuple  # outward unit normal (nx, ny) on the outer and inner front cells
+
+
+def layers(a0: float, hx: float, hy: float) -> int:
+    """m = max(1, round(a0/h)) layers; the band width actually used is a0_eff = m h."""
+    return max(1, int(round(a0 / min(hx, hy))))
+
+
+def bands(mask: np.ndarray, hx: float, hy: float, a0: float) -> Bands:
+    """Bands of m = round(a0/h) layers (cell centres within m h of the front)."""
+    outer_front, inner_front = front_cells(mask)
+    a0 = layers(a0, hx, hy) * min(hx, hy)
+    pad = int(np.ceil(a0 / min(hx, hy))) + 2
+    tol = 1e-9 * min(hx, hy)
+    # outside: distance from each outside cell to the nearest cell of A
+    d_out, _, _ = _wrap_edt(~mask, (hx, hy), pad)
+    outer_band = ~mask & (d_out <= a0 + tol)
+    _, ox, oy = _wrap_edt(~outer_front, (hx, hy), pad)
+    outer_owner = np.where(outer_band, np.ravel_multi_index((ox, oy), mask.shape), -1)
+    d_in, _, _ = _wrap_edt(mask, (hx, hy), pad)
+    inner_band = mask & (d_in <= a0 + tol)
+    _, ix, iy = _wrap_edt(~inner_front, (hx, hy), pad)
+    inner_owner = np.where(inner_band, np.ravel_multi_index((ix, iy), mask.shape), -1)
+    # outward normal from a smoothed indicator (σ ≈ 2 cells)
+    sm = ndimage.gaussian_filter(mask.astype(float), sigma=(2.0, 2.0), mode="wrap")
+    gx = (np.roll(sm, -1, 0) - np.roll(sm, 1, 0)) / (2 * hx)
+    gy = (np.roll(sm, -1, 1) - np.roll(sm, 1, 1)) / (2 * hy)
+    nrm = np.hypot(gx, gy)
+    nrm[nrm == 0] = 1.0
+    normal = (-gx / nrm, -gy / nrm)
+    return Bands(outer_band, outer_owner, inner_band, inner_owner, outer_front, inner_front,
+                 normal)
+
+
+def colours(b: Bands, vhat, viscoelastic: bool):
+    """Front colours: one for elastic scenes, trailing/leading (v̂·n < 0 / ≥ 0) otherwise."""
+    if not viscoelastic:
+        return [np.ones(b.outer_front.shape, bool)]
+    vn = b.normal[0] * vhat[0] + b.normal[1] * vhat[1]
+    return [vn < 0, vn >= 0]
+
+
+@dataclass
+class FrontTest:
+    """Per-front-cell results of the closing and opening tests at fixed Δ."""
+
+    F_close: np.ndarray  # on outer front cells (nan elsewhere)
+    F_open: np.ndarray  # on inner front cells
+    closing: dict  # colour -> (δL, δU, δL_P, band area) of the closing layer (Eqs. 8-10)
+    opening: dict  # colour -> (δL, δU, δL_P, band area) of the opening layer
+    colour_map: list  # colour -> bool array of the front cells it contains
+    solves: int
+    converged: bool
+    message: str
+
+
+def _aggregate(values, owner, n):
+    """Sum of values per owning flat index."""
+    sel = owner >= 0
+    return np.bincount(owner[sel], weights=values[sel], minlength=n)
+
+
+def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.ndarray,
+                dgamma, a0: float, *, rtol: float = 1e-10, vhat=(1.0, 0.0)) -> FrontTest:
+    """Closing and opening tests of every front cell (criterion.md §4.1-4.2) at fixed Δ.
+
+    ``w`` is the displacement prescribed in contact, ``p`` the solution on ``mask``.
+    """
+    cell = op.cell
+    area = cell.cell_area
+    n = mask.size
+    dg = np.broadcast_to(np.asarray(dgamma, dtype=float), mask.shape)
+    b = bands(mask, cell.hx, cell.hy, a0)
+    u = op.apply(p)
+    g = u - w
+    F_close = np.full(mask.shape, np.nan)
+    F_open = np.full(mask.shape, np.nan)
+    closing, opening = {}, {}
+    solves = 0
+    ok = True
+    msg = "converged"
+    cols = colours(b, vhat, op.viscoelastic)
+    for ci, col in enumerate(cols):
+        col_flat = col.ravel()
+        # closing: band cells owned by outer front cells of this colour
+        own = b.outer_owner.ravel()
+        D = (own >= 0) & col_flat[np.maximum(own, 0)]
+        D = D.reshape(mask.shape)
+        if D.any():
+            res = solve_masked(op, mask | D, w, x0=p, rtol=rtol)
+            solves += 1
+            ok &= res.converged
+            if not res.converged:
+                msg = res.message
+            pp = res.field
+            dL = np.where(D, 0.5 * g * (-pp) * area, 0.0)
+            # Eqs. (9), (10) for the whole layer, with the actual fields u = C p
+            up = op.apply(pp)
+            dU = 0.5 * area * (np.sum(pp * up) - np.sum(p * u))
+            dLP = 0.5 * area * (np.sum(up * p) - np.sum(u * pp))
+            closing[ci] = (float(dL.sum()), float(dU), float(dLP), float(D.sum() * area))
+            num = _aggregate(dL.ravel(), np.where(D.ravel(), own, -1), n)
+            den = _aggregate((dg * area).ravel(), np.where(D.ravel(), own, -1), n)
+            has = den > 0
+            F_close.ravel()[has] = num[has] / den[has] - 1.0
+        # opening: the inner band of this colour removed
+        own_i = b.inner_owner.ravel()
+        R = (own_i >= 0) & col_flat[np.maximum(own_i, 0)]
+        R = R.reshape(mask.shape)
+        if R.any() and (mask & ~R).any():
+            res = solve_masked(op, mask & ~R, w, x0=p, rtol=rtol)
+            solves += 1
+            ok &= res.converged
+            if not res.converged:
+                msg = res.message
+            pr = res.field
+            ur = op.apply(pr)
+            gr = ur - w
+            dL = np.where(R, 0.5 * gr * (-p) * area, 0.0)
+            dU = 0.5 * area * (np.sum(p * u) - np.sum(pr * ur))
+            dLP = 0.5 * area * (np.sum(u * pr) - np.sum(ur * p))
+            opening[ci] = (float(dL.sum()), float(dU), float(dLP), float(R.sum() * area))
+            num = _aggregate(dL.ravel(), np.where(R.ravel(), own_i, -1), n)
+            den = _aggregate((dg * area).ravel(), np.where(R.ravel(), own_i, -1), n)
+            has = den > 0
+            F_open.ravel()[has] = num[has] / den[has] - 1.0
+    return FrontTest(F_close, F_open, closing, opening, cols, solves, bool(ok), msg)
+
+
+def sub_cell_offset(F_close, F_open, a0: float):
+    """Offset of the balanced edge l* from the current edge x_b (length units).
+
+    F is evaluated with the edge at x_b (closing test) and at x_b - a0 (opening test); on a
+    stable branch it increases with the edge position, and l* follows by linear inter- or
+    extrapolation.  Where F does not increase (an unstable configuration) the offset is +inf
+    if closing is favourable, -inf if opening is, 0 otherwise.
+    """
+    Fc, Fo = np.asarray(F_close, float), np.asarray(F_open, float)
+    slope = Fc - Fo
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where(slope > 0, -a0 * Fc / slope, np.nan)
+    unstable = ~(slope > 0) & np.isfinite(slope)
+    s = np.where(unstable & (Fc < 0), np.inf, s)
+    s = np.where(unstable & (Fc >= 0) & (Fo > 0), -np.inf, s)
+    s = np.where(unstable & (Fc >= 0) & (Fo <= 0), 0.0, s)
+    return s

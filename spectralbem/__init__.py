@@ -2,3 +2,4 @@
 
 __version__ = "0.1.0"
 
+from .scenes import Scene, solve  # noqa: E402,F401

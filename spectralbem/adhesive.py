@@ -135,8 +135,14 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
         # dead band of ±0.6 h: the outputs use the sub-cell front l*, so the cell boundary only
         # has to lie near it; a band wider than ½ h stops two-state lattice cycles (under load
         # control the Δ update couples the edges)
-        add = outer & (s_out > DEAD_BAND * hmin)
-        remove = inner & (s_in < -DEAD_BAND * hmin)
+        # a band cell at distance d from the front joins (leaves) when its front cell's
+        # balanced edge lies beyond d - (1 - DEAD_BAND) h: up to m layers per iteration
+        b = tests.bands
+        so = np.where(b.outer_owner >= 0, s_out.ravel()[np.maximum(b.outer_owner, 0)], np.nan)
+        si = np.where(b.inner_owner >= 0, s_in.ravel()[np.maximum(b.inner_owner, 0)], np.nan)
+        slack = (1.0 - DEAD_BAND) * hmin
+        add = b.outer_band & (so > b.outer_dist - slack)
+        remove = b.inner_band & (si < -(b.inner_dist - slack))
         history.append((it, int(mask.sum()), int(add.sum()), int(remove.sum()), float(delta)))
         if not add.any() and not remove.any():
             converged, status, message = True, "partial", "converged"

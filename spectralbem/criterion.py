@@ -70,6 +70,8 @@ class Bands:
     outer_front: np.ndarray
     inner_front: np.ndarray
     normal: tuple  # outward unit normal (nx, ny) on the outer and inner front cells
+    outer_dist: np.ndarray  # distance of an outside cell centre to A (m)
+    inner_dist: np.ndarray  # distance of a cell of A to the outside (m)
 
 
 def layers(a0: float, hx: float, hy: float) -> int:
@@ -100,7 +102,7 @@ def bands(mask: np.ndarray, hx: float, hy: float, a0: float) -> Bands:
     nrm[nrm == 0] = 1.0
     normal = (-gx / nrm, -gy / nrm)
     return Bands(outer_band, outer_owner, inner_band, inner_owner, outer_front, inner_front,
-                 normal)
+                 normal, d_out, d_in)
 
 
 def colours(b: Bands, vhat, viscoelastic: bool):
@@ -120,6 +122,7 @@ class FrontTest:
     closing: dict  # colour -> (δL, δU, δL_P, band area) of the closing layer (Eqs. 8-10)
     opening: dict  # colour -> (δL, δU, δL_P, band area) of the opening layer
     colour_map: list  # colour -> bool array of the front cells it contains
+    bands: Bands
     solves: int
     converged: bool
     message: str
@@ -195,7 +198,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             den = _aggregate((dg * area).ravel(), np.where(R.ravel(), own_i, -1), n)
             has = den > 0
             F_open.ravel()[has] = num[has] / den[has] - 1.0
-    return FrontTest(F_close, F_open, closing, opening, cols, solves, bool(ok), msg)
+    return FrontTest(F_close, F_open, closing, opening, cols, b, solves, bool(ok), msg)
 
 
 def sub_cell_offset(F_close, F_open, a0: float):

@@ -61,7 +61,7 @@ def _neighbour_mean(field_: np.ndarray, where: np.ndarray) -> np.ndarray:
 def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float, *,
                    penetration: float | None = None, mean_pressure: float | None = None,
                    mask0: np.ndarray | None = None, max_outer: int = 500,
-                   rtol: float = 1e-10) -> AdhesiveResult:
+                   rtol: float = 1e-10, observables: dict | None = None) -> AdhesiveResult:
     """Adhesive equilibrium under penetration or mean-pressure control.
 
     ``dgamma``: work of adhesion Δγ (J/m², scalar or per-cell map); ``a0``: advance width (m),
@@ -122,7 +122,8 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
         if pen.any():  # contact nucleation (JKR jump-in)
             mask |= pen
             continue
-        tests = front_tests(op, w, mask, p, dgamma, a0, rtol=rtol, vhat=vhat)
+        tests = front_tests(op, w, mask, p, dgamma, a0, rtol=rtol, vhat=vhat,
+                            observables=observables)
         solves += tests.solves
         if not tests.converged:
             message = "layer test: " + tests.message

@@ -119,8 +119,8 @@ class FrontTest:
 
     F_close: np.ndarray  # on outer front cells (nan elsewhere)
     F_open: np.ndarray  # on inner front cells
-    closing: dict  # colour -> (δL, δU, δL_P, band area) of the closing layer (Eqs. 8-10)
-    opening: dict  # colour -> (δL, δU, δL_P, band area) of the opening layer
+    closing: dict  # colour -> (δL, δU, δL_P, band area, observables) of the closing layer
+    opening: dict  # colour -> (δL, δU, δL_P, band area, observables) of the opening layer
     colour_map: list  # colour -> bool array of the front cells it contains
     bands: Bands
     solves: int
@@ -135,11 +135,20 @@ def _aggregate(values, owner, n):
 
 
 def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.ndarray,
-                dgamma, a0: float, *, rtol: float = 1e-10, vhat=(1.0, 0.0)) -> FrontTest:
+                dgamma, a0: float, *, rtol: float = 1e-10, vhat=(1.0, 0.0),
+                observables: dict | None = None) -> FrontTest:
     """Closing and opening tests of every front cell (criterion.md §4.1-4.2) at fixed Δ.
 
     ``w`` is the displacement prescribed in contact, ``p`` the solution on ``mask``.
+    ``observables``: name -> field f; the sums Σ p f of each test state are recorded (in
+    ``closing``/``opening`` entries' fifth item) so that integrated quantities can be
+    interpolated to the sub-cell front.
     """
+    observables = observables or {}
+
+    def observe(q):
+        return {k: float(np.sum(q * f)) for k, f in observables.items()}
+
     cell = op.cell
     area = cell.cell_area
     n = mask.size
@@ -172,7 +181,8 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             up = op.apply(pp)
             dU = 0.5 * area * (np.sum(pp * up) - np.sum(p * u))
             dLP = 0.5 * area * (np.sum(up * p) - np.sum(u * pp))
-            closing[ci] = (float(dL.sum()), float(dU), float(dLP), float(D.sum() * area))
+            closing[ci] = (float(dL.sum()), float(dU), float(dLP), float(D.sum() * area),
+                           observe(pp))
             num = _aggregate(dL.ravel(), np.where(D.ravel(), own, -1), n)
             den = _aggregate((dg * area).ravel(), np.where(D.ravel(), own, -1), n)
             has = den > 0
@@ -193,7 +203,8 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             dL = np.where(R, 0.5 * gr * (-p) * area, 0.0)
             dU = 0.5 * area * (np.sum(p * u) - np.sum(pr * ur))
             dLP = 0.5 * area * (np.sum(u * pr) - np.sum(ur * p))
-            opening[ci] = (float(dL.sum()), float(dU), float(dLP), float(R.sum() * area))
+            opening[ci] = (float(dL.sum()), float(dU), float(dLP), float(R.sum() * area),
+                           observe(pr))
             num = _aggregate(dL.ravel(), np.where(R.ravel(), own_i, -1), n)
             den = _aggregate((dg * area).ravel(), np.where(R.ravel(), own_i, -1), n)
             has = den > 0

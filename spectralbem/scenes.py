@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .contact import sliding_direction
 from .materials import Elastic, Material, StandardLinearSolid
 from .spectral import Cell, SpectralOperator
 from .surfaces import sinusoid
@@ -119,22 +120,38 @@ def solve(scene: Scene, *, mask0=None, rtol: float = 1e-10):
             a = a if np.isfinite(a) else 1.0
             xw = (cell.x + np.pi) % (2 * np.pi) - np.pi
             mask0 = np.repeat((np.abs(xw) < a)[:, None], cell.Ny, axis=1)
+        vhat = sliding_direction(op)
+        vperp = (-vhat[1], vhat[0])
+        obs = {"load": np.ones(cell.shape), "force": -cell.derivative(h, vhat),
+               "lateral": -cell.derivative(h, vperp)}
         r = solve_adhesive(op, h, scene.dgamma, scene.a0, penetration=scene.delta,
-                           mean_pressure=scene.p_mean, mask0=mask0, rtol=rtol)
+                           mean_pressure=scene.p_mean, mask0=mask0, rtol=rtol,
+                           observables=obs)
         p, mask, delta, status = r.pressure, r.mask, r.penetration, r.status
         a0e = r.a0_effective
         u = op.apply(p)
         if scene.kind == "sinusoid" and status == "partial":
             l1, l2 = _edges_y_invariant(mask, r.offset_out, cell)
             G = []
+            # integrated quantities at the sub-cell front: first-order interpolation in the
+            # edge position between the base state and its closing (s > 0) or opening (s < 0)
+            # layer state, at the same fixed Δ
+            base = {k: float(np.sum(p * f)) for k, f in obs.items()}
+            corr = dict.fromkeys(obs, 0.0)
             for ci in sorted(r.tests.closing):
-                dLc, dUc, _, Ac = r.tests.closing[ci]
-                dLo, dUo, _, Ao = r.tests.opening[ci]
+                dLc, dUc, _, Ac, oc = r.tests.closing[ci]
+                dLo, dUo, _, Ao, oo = r.tests.opening[ci]
                 col = r.tests.colour_map[ci]
                 s = float(np.nanmean(np.where(col & np.isfinite(r.offset_out), r.offset_out,
                                               np.nan)))
                 Gc, Go = dUc / Ac, dUo / Ao
                 G.append(Go + (Gc - Go) * (a0e + s) / a0e)  # G at the balanced edge l*
+                ref_state = oc if s >= 0 else oo
+                for k in obs:
+                    corr[k] += abs(s) / a0e * (ref_state[k] - base[k])
+            at_front = {k: base[k] + corr[k] for k in obs}
+            out["mu_bar_front"] = at_front["force"] / at_front["load"]
+            out["mu_bar_lateral_front"] = at_front["lateral"] / at_front["load"]
             if len(G) == 1:
                 G = G * 2
             # colour 0 is trailing (v̂·n < 0); for elastic scenes one colour for both edges
@@ -158,9 +175,11 @@ def solve(scene: Scene, *, mask0=None, rtol: float = 1e-10):
         info = dict(iterations=res.iterations, message=res.message)
     fr = friction(op, h, p, u)
     pm = float(p.mean())
+    mu = out.pop("mu_bar_front", fr["mu_profile"])
+    mu_lat = out.pop("mu_bar_lateral_front", fr["mu_lateral"])
     out.update(a_tilde=(l1 + l2) / 2, e_tilde=(l2 - l1) / 2, p_tilde=pm / pstar,
-               delta_tilde=float(delta), mu_bar=fr["mu_profile"],
-               mu_bar_dissipation=fr["mu_dissipation"], mu_bar_lateral=fr["mu_lateral"])
+               delta_tilde=float(delta), mu_bar=mu, mu_bar_mask=fr["mu_profile"],
+               mu_bar_dissipation=fr["mu_dissipation"], mu_bar_lateral=mu_lat)
     G1, G2 = out["G1_over_dgamma"], out["G2_over_dgamma"]
     out["mu_bar_adhesive"] = ((G1 - G2) * scene.dgamma / (cell.Lx * pm)
                               if scene.dgamma > 0 and pm != 0 else np.nan)

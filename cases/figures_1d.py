@@ -51,7 +51,7 @@ def stamp(fig, text):
 
 def fig3(quick):
     z = zeta_grid(quick)
-    loads, deltas = (0.05, 0.15, 0.5), (0.2, 0.5, 0.8)
+    loads, deltas = (0.05, 0.15, 0.3), (0.2, 0.5, 0.8)
     res = run_curves([(z, BETA, GAMMA, A0, "p_tilde", p) for p in loads]
                      + [(z, BETA, GAMMA, A0, "delta_tilde", d) for d in deltas])
     fig, ax = plt.subplots(2, 2, figsize=(10, 7), constrained_layout=True, sharex=True)

@@ -724,28 +724,41 @@ def solve(zeta: float, beta: float, Gamma: float, *, p_tilde: float | None = Non
     pr = dimensionless_problem(zeta, beta, Gamma, a0_tilde, adhesive=Gamma > 0, modes=modes,
                                quad=quad)
     ratio = _modulus_ratio(zeta, beta)
+    full = None
     if p_tilde is not None and Gamma == 0 and p_tilde >= abs(ratio):
-        return _full_contact_dataset(zeta, beta, Gamma, a0_tilde, p_tilde, ratio)
-    ctl = {"p_mean": p_tilde * pr.p_star()} if p_tilde is not None else {"delta": delta_tilde}
-    st = pr.robust_equilibrium(guess=guess, **ctl)
-    status = _status(pr, st)
-    if status == "full_contact" and p_tilde is not None:
-        return _full_contact_dataset(zeta, beta, Gamma, a0_tilde, p_tilde, ratio)
-    vals = _summary(pr, st)
-    if status != "partial":
-        for key in vals:
-            vals[key] = np.nan
+        full = _full_contact_dataset(zeta, beta, Gamma, a0_tilde, p_tilde, ratio)
+    else:
+        ctl = ({"p_mean": p_tilde * pr.p_star()} if p_tilde is not None
+               else {"delta": delta_tilde})
+        st = pr.robust_equilibrium(guess=guess, **ctl)
+        status = _status(pr, st)
+        if status == "full_contact" and p_tilde is not None:
+            full = _full_contact_dataset(zeta, beta, Gamma, a0_tilde, p_tilde, ratio)
+    if full is not None:
+        vals = {k_: full[k_].item() for k_ in SCALARS if k_ in full}
+    else:
+        vals = _summary(pr, st)
+        if status != "partial":
+            for key in vals:
+                vals[key] = np.nan
     if adhesiveless_reference:
         ref = dimensionless_problem(zeta, beta, Gamma, 0.0, adhesive=False, modes=modes,
                                     quad=quad)
         pt = vals["p_tilde"] if np.isfinite(vals["p_tilde"]) else p_tilde
-        if pt is not None and np.isfinite(pt) and pt > 0:
+        v0 = dict.fromkeys(vals, np.nan)
+        if pt is not None and np.isfinite(pt) and pt >= abs(ratio):
+            v0.update(a_tilde=np.pi, e_tilde=0.0,
+                      mu_bar=float(-np.imag(ratio) / (2 * pt)))
+        elif pt is not None and np.isfinite(pt) and pt > 0:
             s0 = ref.robust_equilibrium(p_mean=pt * ref.p_star())
-            v0 = _summary(ref, s0) if s0.info["converged"] else dict.fromkeys(vals, np.nan)
-        else:
-            v0 = dict.fromkeys(vals, np.nan)
+            if s0.info["converged"]:
+                v0 = _summary(ref, s0)
         vals.update(a_tilde_adhesiveless=v0["a_tilde"], e_tilde_adhesiveless=v0["e_tilde"],
                     mu_bar_adhesiveless=v0["mu_bar"])
+    if full is not None:
+        for k_, v in vals.items():
+            full[k_] = ((), float(v), {"long_name": SCALARS.get(k_, k_), "units": "1"})
+        return full
     xi = np.cos(np.pi * np.arange(1, NXI + 1) / (NXI + 1))[::-1]
     x = st.domain.c + st.domain.a * xi
     p = st.domain.pressure(st.coef, x)

@@ -84,3 +84,27 @@ def test_oblique_equals_aligned_at_zeta_cos_phi():
 def test_scene_errors(kw, word):
     with pytest.raises(SceneError, match=word):
         sb.Scene.sinusoid(0.1, BETA, GAMMA, p_tilde=0.1, **kw)
+
+
+def test_lattice_trapping_shrinks_with_h():
+    """Elastic sinusoid at fixed load, approached from a smaller (loading) and a larger
+    (unloading) contact: the gap between the branches halves (±20 %) when h halves."""
+    from spectralbem.scenes import _edges_y_invariant
+
+    gaps = []
+    for n in (256, 512, 1024):
+        cell = Cell(2 * np.pi, 2 * np.pi / n * 2, n, 2)
+        op = SpectralOperator(cell, Elastic(1.0, 0.0))
+        h = sinusoid(cell, 1.0)
+        x = np.abs((cell.x + np.pi) % (2 * np.pi) - np.pi)[:, None].repeat(2, 1)
+        a = {}
+        for name, start in (("load", x < 0.9), ("unload", x < 1.4)):
+            r = solve_adhesive(op, h, np.pi * GAMMA, cell.hx, mean_pressure=0.075, mask0=start)
+            assert r.converged, r.message
+            l1, l2 = _edges_y_invariant(r.mask, r.offset_out, cell)
+            a[name] = (r.mask[:, 0].sum() * cell.hx / 2, (l1 + l2) / 2)
+        gaps.append([a["unload"][i] - a["load"][i] for i in (0, 1)])
+    gaps = np.array(gaps)
+    assert np.all(gaps > 0)  # hysteresis of the discrete problem (lattice trapping) ...
+    ratios = gaps[1:] / gaps[:-1]
+    assert np.all(np.abs(ratios - 0.5) <= 0.1)  # ... halves with h, mask and sub-cell front

@@ -98,7 +98,7 @@ def fig5(quick):
 
 def fig6(quick):
     z = zeta_grid(quick)
-    loads = (-0.02, 0.05, 0.15, 0.3)
+    loads = (-0.02, 0.05, 0.15)  # (0.3 snaps into full contact at intermediate ζ)
     res = run_curves([(z, BETA, GAMMA, A0, "p_tilde", p) for p in loads])
     fig, ax = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
     for i, p in enumerate(loads):

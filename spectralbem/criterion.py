@@ -136,7 +136,7 @@ def _aggregate(values, owner, n):
 
 def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.ndarray,
                 dgamma, a0: float, *, rtol: float = 1e-10, vhat=(1.0, 0.0),
-                observables: dict | None = None) -> FrontTest:
+                observables: dict | None = None, front_smoothing: float = 2.0) -> FrontTest:
     """Closing and opening tests of every front cell (criterion.md §4.1-4.2) at fixed Δ.
 
     ``w`` is the displacement prescribed in contact, ``p`` the solution on ``mask``.
@@ -209,7 +209,28 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             den = _aggregate((dg * area).ravel(), np.where(R.ravel(), own_i, -1), n)
             has = den > 0
             F_open.ravel()[has] = num[has] / den[has] - 1.0
+    F_close = smooth_along_front(F_close, b.outer_front, front_smoothing)
+    F_open = smooth_along_front(F_open, b.inner_front, front_smoothing)
     return FrontTest(F_close, F_open, closing, opening, cols, b, solves, bool(ok), msg)
+
+
+def smooth_along_front(F: np.ndarray, front: np.ndarray, sigma: float) -> np.ndarray:
+    """Gaussian average of F over the front cells only (σ in cells).
+
+    On a pixelated curved front the per-cell layer work scatters by ±30 % around the local
+    release rate (measured on a JKR disc: the layer means bracket the analytic G, the cells
+    do not); averaging along the front removes the staircase noise.  A straight grid-aligned
+    front is unchanged (all its cells carry the same value per edge).
+    """
+    if sigma <= 0:
+        return F
+    ok = front & np.isfinite(F)
+    num = ndimage.gaussian_filter(np.where(ok, F, 0.0), sigma, mode="wrap")
+    den = ndimage.gaussian_filter(ok.astype(float), sigma, mode="wrap")
+    out = np.full(F.shape, np.nan)
+    sel = ok & (den > 0)
+    out[sel] = num[sel] / den[sel]
+    return out
 
 
 def sub_cell_offset(F_close, F_open, a0: float):

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .contact import sliding_direction
-from .criterion import front_tests, sub_cell_offset
+from .criterion import front_cells, front_tests, layers, sub_cell_offset
 from .masked import solve_masked
 from .spectral import SpectralOperator
 
@@ -79,8 +79,6 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
         raise ValueError(f"a0 = {a0!r} must be at least one cell ({hmin!r} m)")
     if a0 > 0.5 * max(cell.Lx, cell.Ly):
         raise ValueError(f"a0 = {a0!r} must be smaller than half the cell")
-    from .criterion import layers
-
     a0 = layers(a0, cell.hx, cell.hy) * hmin  # the band width actually used (m layers)
     hmax = float(h.max())
     vhat = sliding_direction(op)
@@ -131,8 +129,6 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
         if not tests.converged:
             message = "layer test: " + tests.message
             break
-        from .criterion import front_cells
-
         outer, inner = front_cells(mask)
         s_out = sub_cell_offset(tests.F_close, _neighbour_mean(tests.F_open, inner), a0)
         s_in = sub_cell_offset(_neighbour_mean(tests.F_close, outer), tests.F_open, a0)

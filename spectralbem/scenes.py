@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .contact import sliding_direction
-from .materials import Elastic, Material, StandardLinearSolid
+from .materials import Material
 from .spectral import Cell, SpectralOperator
 from .surfaces import sinusoid
 
@@ -65,12 +65,9 @@ class Scene:
             raise SceneError("; ".join(problems))
         lam = 2 * np.pi
         cell = Cell(lam, lam / n * ny, n, int(ny))
-        if beta == 1.0 or zeta == 0.0:
-            mat, v = Elastic(1.0, 0.0), 0.0
-        elif np.isinf(zeta):
-            mat, v = Elastic(float(beta), 0.0), 0.0
-        else:
-            mat, v = StandardLinearSolid(1.0, float(beta), 1.0, 0.0), float(zeta)
+        from .sinusoid1d import dimensionless_material
+
+        mat, v = dimensionless_material(zeta, beta)
         phi = np.radians(direction_deg)
         pm = None if p_tilde is None else 0.5 * float(p_tilde)  # p* = 1/2 in these units
         return cls(cell, mat, sinusoid(cell, 1.0), (v * np.cos(phi), v * np.sin(phi)),

@@ -604,6 +604,16 @@ class Sinusoid1D:
 NXI = 65  # contact-mesh points stored per state (Chebyshev points of the second kind, interior)
 
 
+def dimensionless_material(zeta: float, beta: float):
+    """(material, speed) in units E0 = τ = k = 1: the SLS of Eq. (14) sliding at v = ζ, or the
+    elastic E0 (ζ = 0 or β = 1) and E∞ (ζ = inf) limits; ν = 0 so that E0* = E0 = 1."""
+    if beta == 1.0 or zeta == 0.0:
+        return Elastic(1.0, 0.0), 0.0
+    if np.isinf(zeta):
+        return Elastic(float(beta), 0.0), 0.0
+    return StandardLinearSolid(1.0, float(beta), 1.0, 0.0), float(zeta)
+
+
 def dimensionless_problem(zeta: float, beta: float, Gamma: float, a0_tilde: float = 0.0, *,
                           adhesive: bool = True, modes: int | None = None,
                           quad: int | None = None,
@@ -614,12 +624,7 @@ def dimensionless_problem(zeta: float, beta: float, Gamma: float, a0_tilde: floa
     normalised with E0).
     """
     _check_inputs(zeta=zeta, beta=beta, Gamma=Gamma, a0_tilde=a0_tilde)
-    if beta == 1.0 or zeta == 0.0:
-        mat, v = Elastic(1.0, 0.0), 0.0
-    elif np.isinf(zeta):
-        mat, v = Elastic(float(beta), 0.0), 0.0
-    else:
-        mat, v = StandardLinearSolid(1.0, float(beta), 1.0, 0.0), float(zeta)
+    mat, v = dimensionless_material(zeta, beta)
     return Sinusoid1D(mat, 1.0, 1.0, velocity=v, dgamma=np.pi * Gamma if adhesive else 0.0,
                       a0=a0_tilde, modes=modes, quad=quad, strip_nodes=strip_nodes, E_ref=1.0)
 

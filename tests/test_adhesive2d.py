@@ -7,7 +7,7 @@ import spectralbem as sb
 from spectralbem import reference as ref
 from spectralbem import sinusoid1d as s1
 from spectralbem.adhesive import solve_adhesive
-from spectralbem.materials import Elastic
+from spectralbem.materials import Elastic, StandardLinearSolid
 from spectralbem.scenes import SceneError
 from spectralbem.spectral import Cell, SpectralOperator
 from spectralbem.surfaces import sinusoid
@@ -53,8 +53,7 @@ def test_layer_identities():
     an elastic scene."""
     cell = Cell(2 * np.pi, 2 * np.pi / 512 * 2, 512, 2)
     h = sinusoid(cell, 1.0)
-    for mat, v in ((Elastic(1.0, 0.0), 0.0), (sb.scenes.StandardLinearSolid(1.0, BETA, 1.0, 0.0),
-                                               0.3)):
+    for mat, v in ((Elastic(1.0, 0.0), 0.0), (StandardLinearSolid(1.0, BETA, 1.0, 0.0), 0.3)):
         op = SpectralOperator(cell, mat, velocity=(v, 0.0))
         r = solve_adhesive(op, h, np.pi * GAMMA, 4 * cell.hx, mean_pressure=0.075,
                            mask0=np.abs((cell.x + np.pi) % (2 * np.pi) - np.pi)[:, None]

@@ -119,6 +119,8 @@ class FrontTest:
 
     F_close: np.ndarray  # on outer front cells (nan elsewhere)
     F_open: np.ndarray  # on inner front cells
+    G_close: np.ndarray  # conservative release rate (δL - δL_P)/δA per outer front cell (J/m²)
+    dLP_cells: np.ndarray  # δL_P attributed to each closing-band cell (adjoint), J
     closing: dict  # colour -> (δL, δU, δL_P, band area, observables) of the closing layer
     opening: dict  # colour -> (δL, δU, δL_P, band area, observables) of the opening layer
     colour_map: list  # colour -> bool array of the front cells it contains
@@ -158,7 +160,10 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     g = u - w
     F_close = np.full(mask.shape, np.nan)
     F_open = np.full(mask.shape, np.nan)
+    G_close = np.full(mask.shape, np.nan)
+    dLP_cells = np.zeros(mask.shape)
     closing, opening = {}, {}
+    psi = adjoint_weights(op, mask, p, rtol) if op.viscoelastic else None
     solves = 0
     ok = True
     msg = "converged"
@@ -187,6 +192,12 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             den = _aggregate((dg * area).ravel(), np.where(D.ravel(), own, -1), n)
             has = den > 0
             F_close.ravel()[has] = num[has] / den[has] - 1.0
+            # per-cell δL_P from the adjoint weights (criterion.md §4.6); zero when elastic
+            dLPj = np.where(D, area * pp * psi, 0.0) if psi is not None else np.zeros(D.shape)
+            dLP_cells += dLPj
+            numP = _aggregate(dLPj.ravel(), np.where(D.ravel(), own, -1), n)
+            areas = _aggregate(np.full(n, area), np.where(D.ravel(), own, -1), n)
+            G_close.ravel()[has] = (num[has] - numP[has]) / areas[has]
         # opening: the inner band of this colour removed
         own_i = b.inner_owner.ravel()
         R = (own_i >= 0) & col_flat[np.maximum(own_i, 0)]
@@ -211,7 +222,21 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             F_open.ravel()[has] = num[has] / den[has] - 1.0
     F_close = smooth_along_front(F_close, b.outer_front, front_smoothing)
     F_open = smooth_along_front(F_open, b.inner_front, front_smoothing)
-    return FrontTest(F_close, F_open, closing, opening, cols, b, solves, bool(ok), msg)
+    solves += psi is not None
+    return FrontTest(F_close, F_open, G_close, dLP_cells, closing, opening, cols, b, solves,
+                     bool(ok), msg)
+
+
+def adjoint_weights(op: SpectralOperator, mask: np.ndarray, p: np.ndarray,
+                    rtol: float = 1e-10) -> np.ndarray:
+    """ψ = -C^O p - Cᵀ λ̃ with C_AAᵀ λ = (-C^O p)|_A (one transposed masked solve).
+
+    For any closure A → A ∪ D at fixed Δ, Eq. (10) splits exactly into cells:
+    δL_P = a Σ_{j∈D} p_j(A ∪ D) ψ_j (criterion.md §4.6), whatever D is.
+    """
+    r = -op.apply_odd(p)
+    res = solve_masked(op, mask, r, rtol=rtol, transpose=True)
+    return r - op.apply_transpose(res.field)
 
 
 def smooth_along_front(F: np.ndarray, front: np.ndarray, sigma: float) -> np.ndarray:

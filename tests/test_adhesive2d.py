@@ -107,3 +107,33 @@ def test_lattice_trapping_shrinks_with_h():
     assert np.all(gaps > 0)  # hysteresis of the discrete problem (lattice trapping) ...
     ratios = gaps[1:] / gaps[:-1]
     assert np.all(np.abs(ratios - 0.5) <= 0.1)  # ... halves with h, mask and sub-cell front
+
+
+def test_adjoint_attribution_of_dLP():
+    """Per-cell δL_P from one transposed solve sums to the direct Eq. (10) value of each layer;
+    it vanishes for an elastic scene."""
+    from spectralbem.criterion import front_tests
+    from spectralbem.masked import solve_masked
+
+    cell = Cell(2 * np.pi, 2 * np.pi / 512 * 2, 512, 2)
+    h = sinusoid(cell, 1.0)
+    x = (cell.x + np.pi) % (2 * np.pi) - np.pi
+    mask = np.repeat(((x > -1.6) & (x < 1.0))[:, None], 2, axis=1)
+    w = h - h.max() + 0.5
+    op = SpectralOperator(cell, StandardLinearSolid(1.0, BETA, 1.0, 0.0), velocity=(0.3, 0.0))
+    p = solve_masked(op, mask, w, rtol=1e-12).field
+    ft = front_tests(op, w, mask, p, np.pi * GAMMA, 4 * cell.hx, rtol=1e-12)
+    total = sum(v[2] for v in ft.closing.values())
+    assert abs(total) > 1e-9
+    assert ft.dLP_cells.sum() == pytest.approx(total, rel=1e-8)  # acceptance: adjoint = Eq. 10
+    # per colour too: each closing band is a separate perturbation of the same A
+    for ci, (_, _, dLP, _, _) in ft.closing.items():
+        band = ft.bands.outer_band & (ft.bands.outer_owner >= 0)
+        col = ft.colour_map[ci].ravel()[np.maximum(ft.bands.outer_owner, 0)] & band
+        assert ft.dLP_cells[col].sum() == pytest.approx(dLP, rel=1e-8)
+    el = SpectralOperator(cell, Elastic(1.0, 0.0))
+    pe = solve_masked(el, mask, w, rtol=1e-12).field
+    fe = front_tests(el, w, mask, pe, np.pi * GAMMA, 4 * cell.hx, rtol=1e-12)
+    assert np.all(fe.dLP_cells == 0.0)
+    for v in fe.closing.values():
+        assert abs(v[2]) < 1e-10 * abs(v[0])

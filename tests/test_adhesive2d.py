@@ -137,3 +137,19 @@ def test_adjoint_attribution_of_dLP():
     assert np.all(fe.dLP_cells == 0.0)
     for v in fe.closing.values():
         assert abs(v[2]) < 1e-10 * abs(v[0])
+
+
+def test_adhesiveless_scene_uses_no_energy_balance(monkeypatch):
+    """Γ = 0: the scene runs the adhesiveless solver (never the criterion) and matches the 1D
+    method within one cell."""
+    import spectralbem.criterion as crit
+
+    monkeypatch.setattr(crit, "front_tests", lambda *a, **k: (_ for _ in ()).throw(
+        AssertionError("energy balance called for an adhesiveless scene")))
+    ds = sb.solve(sb.Scene.sinusoid(0.3, BETA, 0.0, p_tilde=0.15, a0_tilde=0.0,
+                                    cells_per_wavelength=1024, ny=2))
+    r1 = s1.solve(0.3, BETA, 0.0, p_tilde=0.15, a0_tilde=0.0, adhesiveless_reference=False)
+    hk = 2 * np.pi / 1024
+    assert ds.a_tilde.item() == pytest.approx(r1.a_tilde.item(), abs=hk)
+    assert ds.e_tilde.item() == pytest.approx(r1.e_tilde.item(), abs=hk)
+    assert ds.mu_bar.item() == pytest.approx(r1.mu_bar.item(), rel=1e-2)  # O(h) edge cells

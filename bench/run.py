@@ -16,6 +16,12 @@ Usage: python bench/run.py [--sizes 256 512 1024 2048] [--no-tamaas]
 
 from __future__ import annotations
 
+import os
+
+# one thread for every library (BLAS, OpenMP), both codes: the comparison is single-threaded
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
 import argparse
 import json
 import platform

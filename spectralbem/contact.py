@@ -26,6 +26,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.linalg.blas import zaxpy
 
 from .masked import solve_masked
 from .spectral import SpectralOperator
@@ -195,7 +196,6 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     t = np.zeros(n)
     c = np.zeros(n)
     buf = np.empty(n)
-    T = np.empty_like(P)
     idx = np.flatnonzero(p > 0)
     tc = np.zeros(idx.size)
     coef_flag = 0.0
@@ -232,7 +232,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             tc -= tc.mean()
         G_old = G
         t.put(idx, tc)
-        T[...] = fwd(t)
+        T = fwd(t)  # the plan's output buffer: used up before the next forward transform
         t.put(idx, 0.0)
         denom = float(np.vdot(T, kw * T).real)  # ⟨C t, t⟩ by Parseval
         if not denom > 0:
@@ -245,8 +245,9 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         ov = np.flatnonzero(buf < gbar) if overlap_min < 0 else np.empty(0, dtype=np.intp)
         coef_flag = 0.0 if ov.size else 1.0
         # P ← s (P - τ T + FFT(c)), c = the projection correction (clipping, overlap)
-        np.multiply(T, tau, out=T)
-        np.subtract(P, T, out=P)
+        r_ = zaxpy(T.ravel(), P.ravel(), a=-tau)  # in place, one pass
+        if not np.may_share_memory(r_, P):  # f2py copied (non-contiguous input)
+            P[...] = r_.reshape(P.shape)
         if changed or ov.size:
             cidx = idx[clipped]
             c.put(cidx, -pc[clipped])

@@ -138,7 +138,7 @@ def _aggregate(values, owner, n):
 
 def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.ndarray,
                 dgamma, a0: float, *, rtol: float = 1e-10, vhat=(1.0, 0.0),
-                observables: dict | None = None, front_smoothing: float = 2.0) -> FrontTest:
+                observables: dict | None = None, front_smoothing: float = 3.0) -> FrontTest:
     """Closing and opening tests of every front cell (criterion.md §4.1-4.2) at fixed Δ.
 
     ``w`` is the displacement prescribed in contact, ``p`` the solution on ``mask``.

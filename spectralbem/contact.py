@@ -197,6 +197,8 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     c = np.zeros(n)
     buf = np.empty(n)
     idx = np.flatnonzero(p > 0)
+    wc = w.take(idx)  # w and p on the contact set, kept in step with idx
+    pc_cur = p.take(idx)
     tc = np.zeros(idx.size)
     coef_flag = 0.0
     G_old = 1.0
@@ -210,11 +212,12 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             message = "no contact: the indenter does not reach the surface"
             converged = True
             break
-        gc = u.take(idx) - w.take(idx)
+        gc = u.take(idx)
+        gc -= wc
         if load:
             gbar = float(gc.mean())
             gc -= gbar
-        pc = p.take(idx)
+        pc = pc_cur.copy()
         # convergence test on the current state: complementarity and no overlap
         np.subtract(u, w, out=buf)
         buf.put(idx, np.inf)
@@ -262,9 +265,11 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         if not (np.isfinite(scale) and scale > 0):
             message = f"pressure collapsed at iteration {it}: the load cannot be carried"
             break
-        p.put(idx, pc * scale)
+        pc *= scale
+        p.put(idx, pc)
         if ov.size:
-            p.put(ov, pov * scale)
+            pov = pov * scale
+            p.put(ov, pov)
         if it % refresh == 0:
             P[...] = fwd(p)
         elif scale != 1.0:
@@ -272,12 +277,15 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         u = u_from(P)
         if changed or ov.size:
             keep = ~clipped
-            idx, tc = idx[keep], tc[keep]
+            idx, tc, pc = idx[keep], tc[keep], pc[keep]
             if ov.size:
                 idx = np.concatenate([idx, ov])
                 order = np.argsort(idx, kind="stable")
                 idx = idx[order]
                 tc = np.concatenate([tc, np.zeros(ov.size)])[order]
+                pc = np.concatenate([pc, pov])[order]
+            wc = w.take(idx)
+        pc_cur = pc
     else:
         message = f"not converged in {maxiter} iterations (error {err:.3e} > tol {tol:.1e})"
     delta = gbar if load else float(penetration)

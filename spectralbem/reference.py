@@ -110,9 +110,6 @@ def johnson_G_asymmetric(a_tilde, e_tilde, l1_tilde, l2_tilde, p_tilde, Gamma):
 # Adhesiveless viscoelastic sinusoid, physics.md §4.3
 
 
-def visco_full_contact_threshold(E_ratio):
-    """Full contact iff p̃∞ ≥ |E(ζ)|/E0."""
-    return np.abs(E_ratio)
 
 
 def visco_full_contact_pressure(kx, p_tilde, E_ratio):

@@ -880,20 +880,6 @@ def branch_point(pr: Sinusoid1D, a: float, guess=(0.0, None)):
     return st
 
 
-def trace_branch(pr: Sinusoid1D, a_values):
-    """p̃(ã), Δ̃(ã) and ẽ(ã) along the branch (arrays; nan where a point fails)."""
-    out = {"a_tilde": [], "p_tilde": [], "delta_tilde": [], "e_tilde": []}
-    guess = (0.0, None)
-    for a in a_values:
-        st = branch_point(pr, a, guess)
-        ok = st.info["converged"]
-        if ok:
-            guess = ((st.l2 - st.l1) / 2, st.delta)
-        out["a_tilde"].append(pr.k * a)
-        out["p_tilde"].append(st.p_mean / pr.p_star() if ok else np.nan)
-        out["delta_tilde"].append(st.delta / pr.amp if ok else np.nan)
-        out["e_tilde"].append(pr.k * (st.l2 - st.l1) / 2 if ok else np.nan)
-    return {k_: np.array(v) for k_, v in out.items()}
 
 
 def special_points(zeta: float, beta: float, Gamma: float, *, a0_tilde: float,

@@ -180,11 +180,6 @@ class SpectralOperator:
         return not self.viscoelastic
 
     @property
-    def has_q0(self) -> bool:
-        """True when the uniform mode is physical (glued layer)."""
-        return self.kernel[0, 0] != 0
-
-    @property
     def plan(self):
         if self._plan is None:
             self._plan = _fft.plan(self.cell.shape, self.threads)
@@ -217,10 +212,6 @@ class SpectralOperator:
         """C^O p, kernel i Im Ĉ (Eq. 2, odd part)."""
         return self._apply(p, 1j * self._k.imag, None)
 
-    def apply_hat(self, P: np.ndarray) -> np.ndarray:
-        """Ĉ P on a half spectrum (unnormalised DFT convention)."""
-        return self.kernel * P
-
     def inverse_kernel(self) -> np.ndarray:
         """1/Ĉ on the half spectrum, scaled for use as a preconditioner (Fourier inverse).
 
@@ -243,12 +234,6 @@ class SpectralOperator:
         return self._apply(u, self._kinv_c if transpose else self._kinv, out)
 
     # -- energies and friction --------------------------------------------------------------
-    def parseval(self, P1: np.ndarray, P2: np.ndarray) -> float:
-        """Σ_i f1_i f2_i from half spectra (numpy DFT convention)."""
-        w = self.cell.rfft_weights()
-        n = self.cell.Nx * self.cell.Ny
-        return float(np.sum(w * (P1 * np.conj(P2)).real) / n)
-
     def elastic_energy(self, p: np.ndarray) -> float:
         """U = ½ ∫ p u d²x = ½ ∫ p C^E p (Eq. 5 / B.5 with the compressive p), J per cell."""
         P = np.fft.rfft2(p)

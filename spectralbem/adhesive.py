@@ -118,13 +118,14 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
                 break
             p = res.field
         w = h - hmax + delta
-        g = op.apply(p) - w
+        u = op.apply(p)
+        g = u - w
         pen = ~mask & (g < -1e-12 * max(1.0, float(np.abs(w).max())))
         if pen.any():  # contact nucleation (JKR jump-in)
             mask |= pen
             continue
         tests = front_tests(op, w, mask, p, dgamma, a0, rtol=rtol, vhat=vhat,
-                            observables=observables)
+                            observables=observables, u=u)
         solves += tests.solves
         if not tests.converged:
             message = "layer test: " + tests.message

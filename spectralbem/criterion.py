@@ -138,10 +138,12 @@ def _aggregate(values, owner, n):
 
 def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.ndarray,
                 dgamma, a0: float, *, rtol: float = 1e-10, vhat=(1.0, 0.0),
-                observables: dict | None = None, front_smoothing: float = 3.0) -> FrontTest:
+                observables: dict | None = None, front_smoothing: float = 3.0,
+                u: np.ndarray | None = None) -> FrontTest:
     """Closing and opening tests of every front cell (criterion.md §4.1-4.2) at fixed Δ.
 
-    ``w`` is the displacement prescribed in contact, ``p`` the solution on ``mask``.
+    ``w`` is the displacement prescribed in contact, ``p`` the solution on ``mask``, ``u`` its
+    displacement C p if the caller has it.
     ``observables``: name -> field f; the sums Σ p f of each test state are recorded (in
     ``closing``/``opening`` entries' fifth item) so that integrated quantities can be
     interpolated to the sub-cell front.
@@ -156,7 +158,8 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     n = mask.size
     dg = np.broadcast_to(np.asarray(dgamma, dtype=float), mask.shape)
     b = bands(mask, cell.hx, cell.hy, a0)
-    u = op.apply(p)
+    if u is None:
+        u = op.apply(p)
     g = u - w
     F_close = np.full(mask.shape, np.nan)
     F_open = np.full(mask.shape, np.nan)

@@ -1,16 +1,22 @@
-"""Command line: ``spectralbem info | demo | plot``.
+"""Command line: ``spectralbem run | sweep | plot | validate | info``.
 
 Examples::
 
+    spectralbem run cases/rubber_rough.toml -o rubber.nc
+    spectralbem run cases/jkr_sphere.toml -o jkr.nc --set grid.Nx=128 --set grid.Ny=128
+    spectralbem sweep cases/seed_sinusoid_1d.toml --over zeta=1e-3:1e2:25:log -o fig5.nc
+    spectralbem plot rubber.nc -o rubber.png
+    spectralbem validate --quick
     spectralbem info
-    spectralbem demo --out demo_out
-    spectralbem plot demo_out/demo.nc -o contact.png
+
+Every command exits non-zero with a one-line reason (scene problems: one line each) on failure.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+import time
 from pathlib import Path
 
 
@@ -29,46 +35,146 @@ def _info(args) -> int:
     return 0
 
 
-def _demo(args) -> int:
-    from .demo import run
+def _overrides(items) -> dict:
+    from .scenes import parse_value
+    from .schema import SceneError
 
-    run(Path(args.out))
+    out = {}
+    for item in items or []:
+        if "=" not in item:
+            raise SceneError(f"--set {item!r}: expected section.key=VALUE")
+        k, v = item.split("=", 1)
+        out[k.strip()] = parse_value(v.strip())
+    return out
+
+
+def _check_output(path: Path):
+    import os
+
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise OSError(f"output folder {str(folder)!r} does not exist")
+    if not os.access(folder, os.W_OK):
+        raise OSError(f"output folder {str(folder)!r} is not writable")
+
+
+def _run(args) -> int:
+    from .io import write_dataset
+    from .scenes import load_scene, solve
+
+    out = Path(args.output)
+    _check_output(out)  # before any heavy work
+    scene = load_scene(args.scene, overrides=_overrides(args.set))
+    t = time.perf_counter()
+    ds = solve(scene, progress=not args.quiet)
+    ds.attrs["wall_time_s"] = time.perf_counter() - t
+    write_dataset(ds, out)
+    status = ds["status"].values.ravel()
+    print(f"{Path(args.scene).name}: model {ds.attrs['model']}, status "
+          f"{', '.join(dict.fromkeys(str(s) for s in status))}, "
+          f"{ds.attrs['wall_time_s']:.2f} s -> {out}")
+    return 0 if all(s in ("partial", "full_contact", "detached") for s in status) else 2
+
+
+def _sweep(args) -> int:
+    from .sweep import parse_over, run_sweep
+
+    out = Path(args.output)
+    _check_output(out)
+    over = [parse_over(o) for o in args.over]
+    t = time.perf_counter()
+    path = run_sweep(args.scene, over, out, overrides=_overrides(args.set),
+                     scheduler=args.scheduler, workers=args.workers, progress=not args.quiet)
+    print(f"sweep of {Path(args.scene).name} finished in {time.perf_counter() - t:.1f} s "
+          f"-> {path}")
     return 0
 
 
 def _plot(args) -> int:
     from .io import read_dataset
-    from .plotting import plot_contact
+    from .plotting import plot_dataset
 
     path = Path(args.dataset)
     if not path.is_file():
         raise FileNotFoundError(f"dataset {str(path)!r} does not exist")
     ds = read_dataset(path)
     out = Path(args.output) if args.output else path.with_suffix(".png")
-    plot_contact(ds, out)
+    plot_dataset(ds, out)
     print(f"wrote {out}")
     return 0
+
+
+def _validate(args) -> int:
+    from .validate import main as vmain
+
+    try:
+        vmain(["--quick"] if args.quick else [])
+    except SystemExit as exc:  # validate reports a failed tolerance this way
+        if exc.code not in (None, 0):
+            raise RuntimeError(str(exc.code)) from None
+    return 0
+
+
+EXAMPLES = {
+    "run": "spectralbem run cases/rubber_rough.toml -o rubber.nc\n"
+           "  spectralbem run cases/jkr_sphere.toml -o jkr.nc --set grid.Nx=128 "
+           "--set grid.Ny=128",
+    "sweep": "spectralbem sweep cases/seed_sinusoid_1d.toml --over zeta=1e-3:1e2:25:log "
+             "-o fig5.nc\n  spectralbem sweep cases/rubber_rough.toml --over "
+             "motion.speed=1e-4,1e-3,1e-2 --over control.mean_pressure=5e3:2e4:4 -o s.nc",
+    "plot": "spectralbem plot rubber.nc -o rubber.png",
+    "validate": "spectralbem validate --quick",
+    "info": "spectralbem info",
+}
 
 
 def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(prog="spectralbem", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="command", required=True)
-    p = sub.add_parser("info", help="versions, FFT backend and threads",
-                       description="Print versions, the FFT backend and thread count.\n\n"
-                                   "example: spectralbem info")
-    p.set_defaults(func=_info)
-    p = sub.add_parser("demo", help="run the default scene",
-                       description="Run the default scene and write demo.nc and demo.png.\n\n"
-                                   "example: spectralbem demo --out demo_out")
-    p.add_argument("--out", default="demo_out", help="output folder (default demo_out)")
-    p.set_defaults(func=_demo)
-    p = sub.add_parser("plot", help="plot a result dataset",
-                       description="Plot the contact map, pressure and a profile cut of a "
-                                   "result dataset.\n\nexample: spectralbem plot out.nc -o out.png")
+
+    def cmd(name, help_, desc):
+        return sub.add_parser(name, help=help_, description=f"{desc}\n\nexamples:\n  "
+                              f"{EXAMPLES[name]}",
+                              formatter_class=argparse.RawDescriptionHelpFormatter)
+
+    p = cmd("run", "solve one scene file", "Solve a scene (TOML) and write a netCDF dataset. "
+            "Exit code 2 when a state did not converge (the dataset is still written).")
+    p.add_argument("scene", help="scene file (TOML); see docs/user_guide.md")
+    p.add_argument("-o", "--output", required=True, help="netCDF output path")
+    p.add_argument("--set", action="append", metavar="SECTION.KEY=VALUE",
+                   help="override a scene value (repeatable)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=_run)
+    p = cmd("sweep", "sweep a scene over parameters (dask, resumable)",
+            "Solve a scene over the Cartesian product of swept values on dask.distributed "
+            "(a local cluster on all cores, or --scheduler). Each finished point is kept in "
+            "OUT.parts/; rerunning the same command resumes.")
+    p.add_argument("scene", help="scene file (TOML)")
+    p.add_argument("--over", action="append", required=True,
+                   metavar="KEY=START:STOP:NUM[:log]|KEY=V1,V2,...",
+                   help="swept key (section.key, or a bare key unique in the scene); "
+                        "repeatable")
+    p.add_argument("-o", "--output", required=True, help="netCDF output path")
+    p.add_argument("--set", action="append", metavar="SECTION.KEY=VALUE",
+                   help="override a scene value (repeatable)")
+    p.add_argument("--scheduler", help="address of an existing dask scheduler")
+    p.add_argument("--workers", type=int, help="local workers (default: all cores)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=_sweep)
+    p = cmd("plot", "plot a result dataset", "Plot a dataset: contact maps, fields and a "
+            "profile cut (one state), a path, or the curves of a sweep.")
     p.add_argument("dataset", help="netCDF result file")
     p.add_argument("-o", "--output", help="PNG path (default: dataset name with .png)")
     p.set_defaults(func=_plot)
+    p = cmd("validate", "run the validation suite (make validate)",
+            "Run the 2D solver against the 1D method and the references; writes "
+            "docs/validation.md.")
+    p.add_argument("--quick", action="store_true", help="a few points only")
+    p.set_defaults(func=_validate)
+    p = cmd("info", "versions, FFT backend and threads",
+            "Print versions, the FFT backend and thread count.")
+    p.set_defaults(func=_info)
     return ap
 
 
@@ -76,7 +182,10 @@ def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     try:
         return args.func(args)
-    except Exception as exc:  # one-line reason, non-zero exit
+    except KeyboardInterrupt:
+        print(f"spectralbem {args.command}: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # a one-line reason (scene problems: one per line), non-zero exit
         print(f"spectralbem {args.command}: error: {exc}", file=sys.stderr)
         return 1
 

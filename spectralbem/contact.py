@@ -68,7 +68,8 @@ def sliding_direction(op: SpectralOperator) -> np.ndarray:
 
 
 def friction(op: SpectralOperator, heights: np.ndarray, p: np.ndarray, u: np.ndarray) -> dict:
-    """Friction coefficients of a pressure field (dimensionless, per unit mean pressure).
+    """Friction coefficients of a pressure field (dimensionless, per unit mean pressure; nan
+    when the net normal force vanishes).
 
     * ``mu`` — seed Eq. (19) generalised to 2D, μ = -(1/(A0 p̄)) ∫ p (v̂·∇u) d²x, with the exact
       spectral derivative of the surface displacement u;
@@ -82,8 +83,9 @@ def friction(op: SpectralOperator, heights: np.ndarray, p: np.ndarray, u: np.nda
     vhat = sliding_direction(op)
     vperp = np.array([-vhat[1], vhat[0]])
     total = float(np.sum(p))
-    if total == 0.0:
-        return dict(mu=0.0, mu_lateral=0.0, mu_profile=0.0, mu_dissipation=0.0)
+    if abs(total) <= 1e-9 * float(np.sum(np.abs(p))) or total == 0.0:
+        # no net normal force (e.g. an adhesive contact at zero load): the ratios are undefined
+        return dict(mu=np.nan, mu_lateral=np.nan, mu_profile=np.nan, mu_dissipation=np.nan)
     area = cell.cell_area
     return dict(
         mu=-float(np.sum(p * cell.derivative(u, vhat))) / total,

@@ -1,4 +1,11 @@
-"""Plots of result datasets (matplotlib, headless Agg by default)."""
+"""Plots of result datasets (matplotlib, headless Agg by default).
+
+:func:`plot_dataset` picks the plot from the dataset: a sweep (curves of the scalars against the
+first swept key, log axes where the values span decades, as in the seed's figures), a path
+(scalars against the prescribed load or penetration), a grid state (contact map with the front
+coloured by the local G/Δγ, pressure and gap fields, a profile cut along the sliding
+direction) or a 1D state (stress and displacement on the contact).
+"""
 
 from __future__ import annotations
 
@@ -11,42 +18,194 @@ if not os.environ.get("MPLBACKEND"):
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+SEED_CURVES = ("a_tilde", "e_tilde", "G1_over_dgamma", "G2_over_dgamma", "mu_bar")
+PHYS_CURVES = ("area_fraction", "mu", "G1", "G2", "mu_adhesive", "penetration")
+LABELS = {"a_tilde": "ã", "e_tilde": "ẽ", "G1_over_dgamma": "G1/Δγ", "G2_over_dgamma": "G2/Δγ",
+          "mu_bar": "μ/Λ̃", "area_fraction": "area fraction", "mu": "μ", "G1": "G1 (J/m²)",
+          "G2": "G2 (J/m²)", "mu_adhesive": "μ_a", "penetration": "Δ (m)",
+          "mean_pressure": "p̄ (Pa)", "p_tilde": "p̃∞", "delta_tilde": "Δ̃"}
+
+
+def _kind(ds) -> str:
+    if "sweep_keys" in ds.attrs:
+        return "sweep"
+    if "step" in ds.dims:
+        return "path"
+    if "y" in ds.dims:
+        return "grid"
+    return "oned"
+
+
+def plot_dataset(ds, path=None):
+    """The natural plot of any result dataset; returns the figure (PNG written to ``path``)."""
+    fig = {"sweep": plot_sweep, "path": plot_path, "grid": plot_contact,
+           "oned": plot_profile_1d}[_kind(ds)](ds)
+    if path is not None:
+        fig.savefig(path, dpi=110)
+    return fig
+
+
+def _curves(ds, xname, xlabel, title, x=None):
+    names = [n for n in (SEED_CURVES if "a_tilde" in ds else PHYS_CURVES) if n in ds]
+    n = len(names)
+    cols = min(3, n)
+    rows = int(np.ceil(n / cols))
+    fig, axes = plt.subplots(rows, cols, figsize=(4.3 * cols, 3.4 * rows),
+                             constrained_layout=True, squeeze=False)
+    x = np.asarray(ds[xname].values if x is None else x, float)
+    logx = np.all(x > 0) and x.max() / x.min() > 20
+    other = [d for d in ds[names[0]].dims if d != xname]
+    for ax, name in zip(axes.flat, names, strict=False):
+        da = ds[name]
+        if other:
+            da = da.transpose(xname, *other)
+        y = np.asarray(da.values, float).reshape(len(x), -1)
+        labels = ([f"{other[0]} = {v:g}" for v in np.asarray(ds[other[0]].values, float)]
+                  if len(other) == 1 and other[0] in ds.coords else [None] * y.shape[1])
+        for j in range(y.shape[1]):
+            ax.plot(x, y[:, j], "o-", ms=3, label=labels[j])
+        if labels[0] is not None and ax is axes.flat[0]:
+            ax.legend(fontsize=8)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(LABELS.get(name, name))
+        if logx:
+            ax.set_xscale("log")
+        yy = y[np.isfinite(y)]
+        if name.startswith("G") and name.endswith("dgamma") and yy.size and np.all(yy > 0):
+            ax.set_yscale("log")
+        ax.grid(alpha=0.3)
+    for ax in list(axes.flat)[n:]:
+        ax.set_visible(False)
+    fig.suptitle(title)
+    return fig
+
+
+def plot_sweep(ds):
+    """Curves of the scalars against the first swept key (one line per other swept value)."""
+    import json
+
+    keys = json.loads(ds.attrs["sweep_keys"])
+    dim = list(ds[list(ds.data_vars)[0]].dims)[0]
+    unit = ds[dim].attrs.get("units", "1")
+    label = f"{keys[0]}" + (f" ({unit})" if unit not in ("1", "") else "")
+    return _curves(ds, dim, label, f"sweep over {', '.join(keys)}")
+
+
+def plot_path(ds):
+    """Scalars along a load/unload path, against the prescribed control value."""
+    name = ds["control_value"].attrs.get("long_name", "control").replace("prescribed ", "")
+    unit = ds["control_value"].attrs.get("units", "1")
+    fig = _curves(ds, "step", f"{LABELS.get(name, name)}"
+                  + (f" ({unit})" if unit not in ("1", "") and "(" not in LABELS.get(name, "")
+                     else ""), "load path (arrows: step order)", x=ds["control_value"].values)
+    for ax in fig.axes:
+        for line in ax.get_lines():
+            xd, yd = line.get_xdata(), line.get_ydata()
+            for i in range(len(xd) - 1):
+                if np.all(np.isfinite([xd[i], xd[i + 1], yd[i], yd[i + 1]])):
+                    ax.annotate("", (xd[i + 1], yd[i + 1]), (xd[i], yd[i]),
+                                arrowprops=dict(arrowstyle="->", color=line.get_color()))
+    return fig
+
+
+def _cut_along(field_, i0, j0, vx, vy):
+    """Nearest-cell samples of a periodic field along the line through (i0, j0) in the
+    direction (vx, vy) measured in cells (one period of the longer axis)."""
+    nx, ny = field_.shape
+    n = max(nx, ny)
+    s = np.arange(n) - n // 2
+    norm = max(abs(vx), abs(vy))
+    ii = (i0 + np.rint(s * vx / norm).astype(int)) % nx
+    jj = (j0 + np.rint(s * vy / norm).astype(int)) % ny
+    return s, ii, jj
+
 
 def plot_contact(ds, path=None):
-    """Contact map, pressure field and a profile cut along x through the highest pressure.
-
-    Returns the figure; writes a PNG when ``path`` is given.
-    """
-    x = ds["x"].values * 1e3
-    y = ds["y"].values * 1e3
-    p = ds["pressure"].values
-    fig, axes = plt.subplots(1, 3, figsize=(13, 4), constrained_layout=True)
+    """Grid state: contact map (front coloured by G/Δγ when adhesive), pressure and gap
+    fields, and a profile cut through the highest pressure along the sliding direction."""
+    seed = "pressure_tilde" in ds
+    scale, unit = (1.0, "k⁻¹") if seed else (1e3, "mm")
+    x = ds["x"].values * scale
+    y = ds["y"].values * scale
+    p = ds["pressure_tilde"].values if seed else ds["pressure"].values
+    pl, pu = ("p/p*", 1.0) if seed else ("pressure (kPa)", 1e-3)
     ext = (x[0], x[-1], y[0], y[-1])
+    panels = 3 if seed or "gap" not in ds else 4
+    fig, axes = plt.subplots(1, panels, figsize=(4.4 * panels, 4), constrained_layout=True)
     ax = axes[0]
-    ax.imshow(ds["contact"].values.T, origin="lower", extent=ext, cmap="Greys", aspect="auto")
-    ax.set_title(f"contact (area fraction {float(ds['area_fraction']):.3f})")
-    ax.set_xlabel("x (mm)")
-    ax.set_ylabel("y (mm)")
+    ax.imshow(ds["contact"].values.T, origin="lower", extent=ext, cmap="Greys", aspect="auto",
+              vmin=0, vmax=1.6)
+    if "G_front" in ds:
+        G = ds["G_front"].values
+        ok = np.isfinite(G)
+        X, Y = np.meshgrid(x, y, indexing="ij")
+        sc = ax.scatter(X[ok], Y[ok], c=G[ok], s=4, cmap="coolwarm", marker="s")
+        fig.colorbar(sc, ax=ax, label="local G/Δγ on the front")
+    frac = float(ds["contact"].values.mean())
+    ax.set_title(f"contact (area fraction {frac:.3f})")
+    ax.set_xlabel(f"x ({unit})")
+    ax.set_ylabel(f"y ({unit})")
     ax = axes[1]
-    im = ax.imshow(p.T / 1e3, origin="lower", extent=ext, cmap="magma", aspect="auto")
-    fig.colorbar(im, ax=ax, label="pressure (kPa)")
-    ax.set_title(f"pressure, μ = {float(ds['mu']):.4f}")
-    ax.set_xlabel("x (mm)")
-    ax.set_ylabel("y (mm)")
-    ax = axes[2]
-    j = int(np.unravel_index(np.argmax(p), p.shape)[1])
-    h = ds["heights"].values[:, j]
-    w = h - ds["heights"].values.max() + float(ds["penetration"])
-    top, slab = -w * 1e6, -ds["displacement"].values[:, j] * 1e6
-    hi, lo = top.max() + 0.1 * np.ptp(top), slab.min() - 0.1 * np.ptp(top)
-    ax.fill_between(x, top, hi, color="0.75", label="rigid indenter")
-    ax.fill_between(x, lo, slab, color="C0", alpha=0.35, label="slab")
-    ax.plot(x, slab, "C0-", lw=1)
-    ax.set_ylim(lo, hi)
-    ax.set_xlabel("x (mm)")
-    ax.set_ylabel("height (μm)")
-    ax.set_title(f"profile cut at y = {y[j]:.3g} mm")
-    ax.legend(loc="best")
+    im = ax.imshow(p.T * pu, origin="lower", extent=ext, cmap="magma", aspect="auto")
+    fig.colorbar(im, ax=ax, label=pl)
+    mu = float(ds["mu_bar"] if seed else ds["mu"])
+    ax.set_title(f"pressure, {'μ/Λ̃' if seed else 'μ'} = {mu:.4g}")
+    ax.set_xlabel(f"x ({unit})")
+    ax.set_ylabel(f"y ({unit})")
+    if panels == 4:
+        ax = axes[2]
+        im = ax.imshow(ds["gap"].values.T * 1e6, origin="lower", extent=ext, cmap="viridis",
+                       aspect="auto")
+        fig.colorbar(im, ax=ax, label="gap (μm)")
+        ax.set_title("gap")
+        ax.set_xlabel(f"x ({unit})")
+        ax.set_ylabel(f"y ({unit})")
+    ax = axes[-1]
+    vx, vy = ds.attrs.get("velocity_x", 1.0), ds.attrs.get("velocity_y", 0.0)
+    if vx == 0 and vy == 0:
+        vx = 1.0
+    hx, hy = x[1] - x[0], (y[1] - y[0]) if len(y) > 1 else 1.0
+    i0, j0 = np.unravel_index(np.argmax(p), p.shape)
+    s, ii, jj = _cut_along(p, i0, j0, vx / hx, vy / hy)
+    dist = s * np.hypot(vx / max(abs(vx / hx), abs(vy / hy)), vy / max(abs(vx / hx),
+                                                                        abs(vy / hy)))
+    if seed:
+        ax.plot(dist, p[ii, jj], "C3-")
+        ax.set_ylabel("p/p*")
+    else:
+        h = ds["heights"].values
+        w = h - h.max() + float(ds["penetration"])
+        top, slab = -w[ii, jj] * 1e6, -ds["displacement"].values[ii, jj] * 1e6
+        rng = max(np.ptp(top), 1e-12)
+        hi, lo = top.max() + 0.1 * rng, slab.min() - 0.1 * rng
+        ax.fill_between(dist, top, hi, color="0.75", label="rigid indenter")
+        ax.fill_between(dist, lo, slab, color="C0", alpha=0.35, label="slab")
+        ax.plot(dist, slab, "C0-", lw=1)
+        ax.set_ylim(lo, hi)
+        ax.set_ylabel("height (μm)")
+        ax.legend(loc="best")
+    ax.set_xlabel(f"distance along v ({unit})")
+    ax.set_title("profile cut along the sliding direction")
+    if path is not None:
+        fig.savefig(path, dpi=110)
+    return fig
+
+
+def plot_profile_1d(ds, path=None):
+    """1D state (seed method): stress σ/p* and displacement u/Λ on the contact."""
+    fig, axes = plt.subplots(1, 2, figsize=(9, 3.6), constrained_layout=True)
+    x = ds["x_tilde"].values
+    axes[0].plot(x, ds["sigma_tilde"].values, "C3-")
+    axes[0].set_xlabel("k x")
+    axes[0].set_ylabel("σ/p*")
+    axes[0].set_title(f"{ds.attrs.get('model', '')}: status {ds['status'].item()}, "
+                      f"ã = {float(ds['a_tilde']):.4g}")
+    axes[1].plot(x, ds["u_tilde"].values, "C0-")
+    axes[1].set_xlabel("k x")
+    axes[1].set_ylabel("u/Λ")
+    axes[1].set_title(f"ẽ = {float(ds['e_tilde']):.4g}, μ/Λ̃ = {float(ds['mu_bar']):.4g}")
+    for ax in axes:
+        ax.grid(alpha=0.3)
     if path is not None:
         fig.savefig(path, dpi=110)
     return fig

@@ -1,82 +1,331 @@
 """Scenes: one study, validated before any heavy work, and ``solve(scene)`` → Dataset.
 
-So far the seed's sinusoid scene in 2D (``Scene.sinusoid``); scene files are still to come.
-The scene decides the model: an elastic material never builds the viscoelastic kernel, a
-half-space never evaluates S, an adhesiveless scene never runs the energy balance.
+A scene comes from a TOML file (:func:`load_scene`, schema in :mod:`spectralbem.schema`) or
+from Python (:meth:`Scene.sinusoid` for the seed's dimensionless problem).  The scene decides
+the model, and the dataset records which one ran (attribute ``model``):
+
+* ``sinusoid1d`` — the seed's 1D method (a y-invariant sinusoid on an elastic or standard
+  linear solid half-space sliding along x; chosen by ``model = "auto"``);
+* ``grid2d`` — the periodic grid: Polonsky–Keer for an elastic (or resting) adhesiveless
+  scene, the active set for viscoelastic sliding, the front-layer energy balance only when
+  Δγ > 0.  An elastic scene never builds E(ω); a half-space never evaluates S.
+
+A list under ``control`` is a load/unload path, solved in order with the contact mask carried
+from step to step (adhesion hysteresis is physical: no global minimisation).
 """
 
 from __future__ import annotations
 
+import copy
+import dataclasses
+import datetime as _dt
+import json
+import sys
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
+from . import __version__
 from .contact import sliding_direction
-from .materials import Material
-from .spectral import Cell, SpectralOperator
-from .surfaces import sinusoid
+from .materials import Elastic, Material, MaterialError, Prony, StandardLinearSolid, Tabulated
+from .schema import SceneError, validate
+from .spectral import Cell, GridError, SpectralOperator
+from .surfaces import SurfaceError, bisinusoid, paraboloid, read_heights, self_affine, sinusoid
 
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
 
-class SceneError(ValueError):
-    """Invalid scene parameter."""
+__all__ = ["Scene", "SceneError", "load_scene", "read_scene_file", "apply_overrides", "solve"]
 
 
 @dataclass
 class Scene:
-    """A periodic contact problem in dimensionless sinusoid units (k = Λ = E0* = τ = 1)."""
+    """A validated periodic contact problem, ready to solve.
+
+    Seed scenes (``kind == "sinusoid"``) are in dimensionless sinusoid units
+    (k = Λ = E0* = τ = 1, so p* = 1/2); physical scenes are in SI units.
+    ``control`` is ``(name, values)``: name ``mean_pressure`` or ``penetration`` and one value
+    per step (one step unless the scene is a path); ``p_mean``/``delta`` hold the first step.
+    """
 
     cell: Cell
     material: Material
     heights: np.ndarray
     velocity: tuple
-    dgamma: float
+    dgamma: object  # J/m², scalar or per-cell map
     a0: float
     p_mean: float | None = None
     delta: float | None = None
     kind: str = "custom"
     params: dict = field(default_factory=dict)
+    layer: object = None
+    model: str = "grid2d"
+    spec: dict = field(default_factory=dict)  # the normalised scene mapping (for the dataset)
+    solver: dict = field(default_factory=lambda: {"tol": 1e-10, "max_iterations": 10000,
+                                                  "max_outer": 500, "threads": 1})
+    fields: bool = True
+    control: tuple = ()
+
+    @property
+    def adhesive(self) -> bool:
+        return bool(np.any(np.asarray(self.dgamma) > 0))
+
+    @property
+    def steps(self) -> list:
+        """Control values of the path (one entry for a single state)."""
+        if self.control:
+            return list(self.control[1])
+        return [self.p_mean if self.p_mean is not None else self.delta]
+
+    def at_step(self, value) -> Scene:
+        name = self.control[0] if self.control else (
+            "mean_pressure" if self.p_mean is not None else "penetration")
+        if name == "mean_pressure":
+            return dataclasses.replace(self, p_mean=value, delta=None)
+        return dataclasses.replace(self, p_mean=None, delta=value)
 
     @classmethod
     def sinusoid(cls, zeta: float, beta: float, Gamma: float, *, p_tilde: float | None = None,
                  delta_tilde: float | None = None, a0_tilde: float,
-                 cells_per_wavelength: int, ny: int = 8, direction_deg: float = 0.0) -> Scene:
+                 cells_per_wavelength: int = 1024, ny: int = 8, direction_deg: float = 0.0,
+                 model: str = "grid2d") -> Scene:
         """The seed scene: h = Λ cos(kx) on an Lx = λ by ny-cell periodic cell, sliding at
-        ζ = kvτ along the angle ``direction_deg`` to the wave vector."""
-        problems = []
-        checks = [("zeta", zeta, 0.0, np.inf), ("beta", beta, 1.0, 1e8),
-                  ("Gamma", Gamma, 0.0, 10.0), ("a0_tilde", a0_tilde, 0.0, np.pi),
-                  ("cells_per_wavelength", cells_per_wavelength, 16, 1 << 20),
-                  ("ny", ny, 1, 4096), ("direction_deg", direction_deg, -360.0, 360.0)]
-        for name, v, lo, hi in checks:
-            try:
-                fv = float(v)
-            except (TypeError, ValueError):
-                problems.append(f"{name} = {v!r} is not a number")
-                continue
-            if not (lo <= fv <= hi) or np.isnan(fv):
-                problems.append(f"{name} = {v!r} is outside the allowed range [{lo}, {hi}]")
-        if (p_tilde is None) == (delta_tilde is None):
-            problems.append("give exactly one of p_tilde (load control) and delta_tilde")
-        n = int(cells_per_wavelength)
-        if not problems and Gamma > 0 and a0_tilde < 2 * np.pi / n * (1 - 1e-9):
-            problems.append(f"a0_tilde = {a0_tilde!r} is smaller than one cell "
-                            f"({2 * np.pi / n:.4g}); allowed [{2 * np.pi / n:.4g}, π]")
+        ζ = kvτ along the angle ``direction_deg`` to the wave vector.  ``model`` =
+        ``"sinusoid1d"`` runs the seed's 1D method instead of the grid."""
+        raw = {"scene": {"model": model},
+               "sinusoid": {"zeta": zeta, "beta": beta, "Gamma": Gamma, "a0_tilde": a0_tilde,
+                            "cells_per_wavelength": cells_per_wavelength, "ny": ny,
+                            "direction_deg": direction_deg}}
+        for k, v in (("p_tilde", p_tilde), ("delta_tilde", delta_tilde)):
+            if v is not None:
+                raw["sinusoid"][k] = v
+        raw = json.loads(json.dumps(raw, default=_plain))
+        spec, problems = validate(raw)
         if problems:
-            raise SceneError("; ".join(problems))
-        lam = 2 * np.pi
-        cell = Cell(lam, lam / n * ny, n, int(ny))
-        from .sinusoid1d import dimensionless_material
-
-        mat, v = dimensionless_material(zeta, beta)
-        phi = np.radians(direction_deg)
-        pm = None if p_tilde is None else 0.5 * float(p_tilde)  # p* = 1/2 in these units
-        return cls(cell, mat, sinusoid(cell, 1.0), (v * np.cos(phi), v * np.sin(phi)),
-                   np.pi * Gamma, float(a0_tilde), pm, delta_tilde, "sinusoid",
-                   dict(zeta=float(zeta), beta=float(beta), Gamma=float(Gamma),
-                        a0_tilde=float(a0_tilde), cells_per_wavelength=n, ny=int(ny),
-                        direction_deg=float(direction_deg)))
+            raise SceneError(problems)
+        return _build_seed(spec)
 
 
+def _plain(x):
+    """numpy scalars → Python numbers (so the schema sees plain types)."""
+    if isinstance(x, np.integer):
+        return int(x)
+    if isinstance(x, np.floating):
+        return float(x)
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    raise TypeError(f"{x!r} is not a plain value")
+
+
+# -- loading ---------------------------------------------------------------------------------
+def read_scene_file(path) -> dict:
+    """Parse a TOML scene file (errors name the file and line)."""
+    path = Path(path)
+    if not path.is_file():
+        raise SceneError(f"scene file {str(path)!r} does not exist")
+    try:
+        with path.open("rb") as fh:
+            return tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"scene file {str(path)!r} is not valid TOML: {exc}") from exc
+
+
+def parse_value(text: str):
+    """A command-line value: a TOML literal (number, string, list, boolean) or a bare word."""
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text
+
+
+def apply_overrides(raw: dict, overrides: dict | None) -> dict:
+    """A copy of ``raw`` with ``{"section.key": value}`` set (sections are created)."""
+    out = copy.deepcopy(raw)
+    for dotted, value in (overrides or {}).items():
+        parts = dotted.split(".")
+        if len(parts) != 2 or not all(parts):
+            raise SceneError(f"{dotted}: an override key must be 'section.key'")
+        sec = out.setdefault(parts[0], {})
+        if not isinstance(sec, dict):
+            raise SceneError(f"{parts[0]}: is not a table, cannot set {dotted}")
+        sec[parts[1]] = value
+    return out
+
+
+def load_scene(source, *, overrides: dict | None = None, base_dir=None) -> Scene:
+    """Validate a scene (TOML path or parsed mapping) and build it; every problem is reported
+    at once in one :class:`SceneError` before any heavy work.  Relative file paths in the
+    scene are resolved against the scene file's folder (or ``base_dir``)."""
+    if isinstance(source, (str, Path)):
+        raw = read_scene_file(source)
+        base = Path(source).resolve().parent if base_dir is None else Path(base_dir)
+    else:
+        raw = source
+        base = Path(base_dir or ".").resolve()
+    raw = apply_overrides(raw, overrides)
+    spec, problems = validate(raw)
+    if problems:
+        raise SceneError(problems)
+    if "sinusoid" in spec:
+        return _build_seed(spec)
+    return _build_physical(spec, base)
+
+
+def _build_seed(spec: dict) -> Scene:
+    s = spec["sinusoid"]
+    model = spec["scene"]["model"]
+    if model == "auto":
+        model = "sinusoid1d" if s["direction_deg"] == 0.0 else "grid2d"
+    elif model == "sinusoid1d" and s["direction_deg"] != 0.0:
+        raise SceneError("scene.model: 'sinusoid1d' needs sinusoid.direction_deg = 0 (oblique "
+                         "sliding runs on the grid; allowed models here: auto, grid2d)")
+    ctl = ("p_tilde", s["p_tilde"]) if s["p_tilde"] is not None else ("delta_tilde",
+                                                                      s["delta_tilde"])
+    values = ctl[1] if isinstance(ctl[1], list) else [ctl[1]]
+    n, ny = s["cells_per_wavelength"], s["ny"]
+    lam = 2 * np.pi
+    cell = Cell(lam, lam / n * ny, n, ny)
+    from .sinusoid1d import dimensionless_material
+
+    mat, v = dimensionless_material(s["zeta"], s["beta"])
+    phi = np.radians(s["direction_deg"])
+    # p* = 1/2 in these units: the mean pressure is p̃/2
+    steps = [0.5 * x for x in values] if ctl[0] == "p_tilde" else list(values)
+    name = "mean_pressure" if ctl[0] == "p_tilde" else "penetration"
+    p0 = steps[0] if name == "mean_pressure" else None
+    d0 = steps[0] if name == "penetration" else None
+    params = dict(zeta=s["zeta"], beta=s["beta"], Gamma=s["Gamma"], a0_tilde=s["a0_tilde"],
+                  cells_per_wavelength=n, ny=ny, direction_deg=s["direction_deg"])
+    return Scene(cell, mat, sinusoid(cell, 1.0), (v * np.cos(phi), v * np.sin(phi)),
+                 np.pi * s["Gamma"], s["a0_tilde"], p0, d0, "sinusoid", params, None, model,
+                 spec, control=(name, steps))
+
+
+def _material(m: dict, base: Path, problems: list) -> Material | None:
+    try:
+        k = m["kind"]
+        if k == "elastic":
+            return Elastic(m["E"], m["nu"])
+        if k == "sls":
+            return StandardLinearSolid(m["E0"], m["Einf"], m["tau"], m["nu"])
+        if k == "prony":
+            return Prony(m["E_eq"], tuple(m["moduli"]), tuple(m["times"]), m["nu"])
+        return Tabulated.from_csv(base / m["path"], nu=m["nu"])
+    except MaterialError as exc:
+        problems.append(f"material: {exc}")
+        return None
+
+
+def _layer(ly: dict):
+    from .layers import GluedLayer, HalfSpace, PressureLayer
+
+    return {"half_space": lambda: HalfSpace(), "glued": lambda: GluedLayer(ly["thickness"]),
+            "pressure": lambda: PressureLayer(ly["thickness"])}[ly["kind"]]()
+
+
+def _heights(sf: dict, g: dict, cell: Cell, base: Path, problems: list):
+    k = sf["kind"]
+    try:
+        if k == "sinusoid":
+            return sinusoid(cell, sf["amplitude"], sf["wavelength"])
+        if k == "bisinusoid":
+            return bisinusoid(cell, sf["amplitude"])
+        if k == "paraboloid":
+            return paraboloid(cell, sf["radius"])
+        if k == "self_affine":
+            cut = sf["cutoff_wavelength"] or 8 * max(cell.hx, cell.hy)
+            return self_affine(cell, sf["hurst"], rolloff=2 * np.pi / sf["rolloff_wavelength"],
+                               cutoff=2 * np.pi / cut, rms_height=sf["rms_height"],
+                               rms_slope=sf["rms_slope"], seed=sf["seed"])
+        h, size = read_heights(base / sf["path"], variable=sf["variable"], scale=sf["scale"])
+    except SurfaceError as exc:
+        problems.append(f"surface: {exc}")
+        return None
+    if h.shape != cell.shape:
+        problems.append(f"surface.path: the height map has shape {h.shape}, the grid is "
+                        f"(grid.Nx, grid.Ny) = {cell.shape}")
+        return None
+    if size is not None:
+        for name, got, want in (("Lx", size[0], g["Lx"]), ("Ly", size[1], g["Ly"])):
+            if abs(got - want) > 1e-6 * want:
+                problems.append(f"grid.{name}: {want!r} m disagrees with the height map's "
+                                f"physical size {got!r} m")
+    bad = ~np.isfinite(h)
+    if bad.any():
+        problems.append(f"surface.path: the height map has {int(bad.sum())} non-finite values "
+                        f"(first at index {tuple(int(i) for i in np.argwhere(bad)[0])})")
+        return None
+    return h
+
+
+def _one_d_obstacles(spec: dict, material) -> list:
+    """Why a physical scene cannot run as the seed's 1D method (empty: it can)."""
+    why = []
+    if spec["surface"]["kind"] != "sinusoid":
+        why.append("surface.kind is not 'sinusoid'")
+    if not isinstance(material, (Elastic, StandardLinearSolid)):
+        why.append("the material is neither elastic nor a standard linear solid")
+    if spec["layer"]["kind"] != "half_space":
+        why.append("layer.kind is not 'half_space'")
+    v = _velocity(spec["motion"])
+    if v[1] != 0.0:
+        why.append("the velocity has a y component")
+    if spec["adhesion"]["dgamma_map"] is not None:
+        why.append("adhesion.dgamma_map is set")
+    return why
+
+
+def _velocity(mot: dict) -> tuple:
+    if mot["velocity"] is not None:
+        return tuple(float(v) for v in mot["velocity"])
+    s = mot["speed"] or 0.0
+    phi = np.radians(mot["direction_deg"])
+    vx, vy = s * np.cos(phi), s * np.sin(phi)
+    return (float(vx) if abs(vx) > 1e-15 * s else 0.0, float(vy) if abs(vy) > 1e-15 * s else 0.0)
+
+
+def _build_physical(spec: dict, base: Path) -> Scene:
+    problems: list[str] = []
+    g = spec["grid"]
+    try:
+        cell = Cell(g["Lx"], g["Ly"], g["Nx"], g["Ny"])
+    except GridError as exc:
+        raise SceneError(f"grid: {exc}") from exc
+    mat = _material(spec["material"], base, problems)
+    h = _heights(spec["surface"], g, cell, base, problems)
+    adh = spec["adhesion"]
+    dgamma = adh["dgamma"]
+    if adh["dgamma_map"] is not None:
+        try:
+            dgamma = np.load(base / adh["dgamma_map"], allow_pickle=False).astype(float)
+        except (OSError, ValueError, EOFError) as exc:
+            problems.append(f"adhesion.dgamma_map: cannot read {adh['dgamma_map']!r}: {exc}")
+            dgamma = None
+        if dgamma is not None and dgamma.shape != cell.shape:
+            problems.append(f"adhesion.dgamma_map: shape {dgamma.shape} differs from the grid "
+                            f"{cell.shape}")
+        elif dgamma is not None and (not np.all(np.isfinite(dgamma)) or np.any(dgamma < 0)):
+            problems.append("adhesion.dgamma_map: values must be finite and ≥ 0 J/m²")
+    model = spec["scene"]["model"]
+    if mat is not None and model != "grid2d":
+        why = _one_d_obstacles(spec, mat)
+        if model == "sinusoid1d" and why:
+            problems.append("scene.model: 'sinusoid1d' is not possible: " + "; ".join(why)
+                            + " (allowed: auto, grid2d)")
+        model = "sinusoid1d" if not why else "grid2d"
+    if problems:
+        raise SceneError(problems)
+    ctl = spec["control"]
+    name = "mean_pressure" if ctl["mean_pressure"] is not None else "penetration"
+    values = ctl[name] if isinstance(ctl[name], list) else [ctl[name]]
+    return Scene(cell, mat, h, _velocity(spec["motion"]), dgamma, adh["a0"] or 0.0,
+                 values[0] if name == "mean_pressure" else None,
+                 values[0] if name == "penetration" else None, "physical",
+                 {"name": spec["scene"]["name"]}, _layer(spec["layer"]), model, spec,
+                 dict(spec["solver"]), spec["output"]["fields"], (name, list(values)))
 def _edges_y_invariant(mask, offset, cell):
     """Trailing/leading edge distances (l1, l2) from the summit, averaged over rows, with the
     sub-cell offsets of the outer front cells."""
@@ -97,8 +346,15 @@ def _edges_y_invariant(mask, offset, cell):
     return float(np.mean(l1s)), float(np.mean(l2s))
 
 
-def solve(scene: Scene, *, mask0=None, rtol: float = 1e-10):
-    """Solve a scene; returns an xarray Dataset (sinusoid scenes: the 1D method's names)."""
+SEED_EXTRA = {
+    "mu_bar_mask": "μ/Λ̃ from the rigid-profile force on the cell mask",
+    "mu_bar_dissipation": "μ/Λ̃ from the spectral dissipation",
+    "mu_bar_lateral": "lateral force over normal force, over Λ̃",
+}
+
+
+def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
+    """The seed scene on the grid: the 1D method's dimensionless names."""
     import xarray as xr
 
     from .adhesive import solve_adhesive
@@ -108,7 +364,7 @@ def solve(scene: Scene, *, mask0=None, rtol: float = 1e-10):
     cell, h = scene.cell, scene.heights
     pstar = 0.5
     out = {}
-    if scene.dgamma > 0:
+    if scene.adhesive:
         if mask0 is None and scene.kind == "sinusoid":  # start from Johnson's E0 contact
             from . import reference as ref
 
@@ -123,7 +379,7 @@ def solve(scene: Scene, *, mask0=None, rtol: float = 1e-10):
                "lateral": -cell.derivative(h, vperp)}
         r = solve_adhesive(op, h, scene.dgamma, scene.a0, penetration=scene.delta,
                            mean_pressure=scene.p_mean, mask0=mask0, rtol=rtol,
-                           observables=obs)
+                           observables=obs, max_outer=scene.solver["max_outer"])
         p, mask, delta, status = r.pressure, r.mask, r.penetration, r.status
         a0e = r.a0_effective
         u = op.apply(p)
@@ -160,7 +416,8 @@ def solve(scene: Scene, *, mask0=None, rtol: float = 1e-10):
                     a0_effective=a0e)
     else:
         res = solve_contact(op, h, mean_pressure=scene.p_mean,
-                            penetration=None if scene.delta is None else scene.delta, tol=rtol)
+                            penetration=scene.delta, tol=rtol,
+                            maxiter=scene.solver["max_iterations"])
         p, mask, delta, u = res.pressure, res.mask, res.penetration, res.displacement
         status = "partial" if res.converged and not res.full_contact else (
             "full_contact" if res.full_contact else "not_converged")
@@ -180,7 +437,11 @@ def solve(scene: Scene, *, mask0=None, rtol: float = 1e-10):
     G1, G2 = out["G1_over_dgamma"], out["G2_over_dgamma"]
     out["mu_bar_adhesive"] = ((G1 - G2) * scene.dgamma / (cell.Lx * pm)
                               if scene.dgamma > 0 and pm != 0 else np.nan)
-    data = {k: ((), float(v), {"units": "1"}) for k, v in out.items()}
+    from .sinusoid1d import SCALARS as names
+
+    names = {**names, **SEED_EXTRA}
+    data = {k: ((), float(v), {"units": "1", "long_name": names.get(k, k)})
+            for k, v in out.items()}
     data["status"] = ((), status, {"long_name": "partial | full_contact | detached | "
                                                 "not_converged"})
     data["pressure_tilde"] = (("x", "y"), p / pstar, {"long_name": "p/p*", "units": "1"})
@@ -188,5 +449,256 @@ def solve(scene: Scene, *, mask0=None, rtol: float = 1e-10):
                                                           "units": "1"})
     ds = xr.Dataset(data, coords={"x": ("x", cell.x, {"units": "1", "long_name": "k x"}),
                                   "y": ("y", cell.y, {"units": "1", "long_name": "k y"})})
-    ds.attrs.update(model="grid2d", **scene.params, **{k: v for k, v in info.items()})
+    ds.attrs.update(**scene.params, **info)
+    return ds
+
+
+# -- physical scenes -------------------------------------------------------------------------
+SCALARS = {  # name: (units, long name)
+    "mean_pressure": ("Pa", "mean (nominal) pressure, compressive positive"),
+    "penetration": ("m", "penetration Δ, mean-level gauge"),
+    "area_fraction": ("1", "contact area fraction"),
+    "mu": ("1", "friction coefficient: force opposing v over normal force, Eq. (19) in 2D"),
+    "mu_lateral": ("1", "lateral force (along z × v) over normal force"),
+    "mu_profile": ("1", "friction coefficient from the rigid-profile force on the mask"),
+    "mu_dissipation": ("1", "friction coefficient from the spectral dissipation"),
+    "mu_adhesive": ("1", "adhesive friction -∮ G (n·v̂) ds / W, Eq. (23) in 2D"),
+    "G1": ("J/m²", "energy release rate at the trailing (opening) front, Eq. (20)"),
+    "G2": ("J/m²", "energy release rate at the leading (closing) front, Eq. (21)"),
+    "contact_half_width": ("m", "contact semi-width a of the sinusoid"),
+    "eccentricity": ("m", "contact eccentricity e (> 0: toward the leading edge)"),
+    "iterations": ("1", "solver iterations (adhesive: outer front iterations)"),
+    "solves": ("1", "masked linear solves"),
+}
+FIELDS = {
+    "heights": ("m", "rigid profile height toward the slab"),
+    "pressure": ("Pa", "contact pressure (compressive positive)"),
+    "displacement": ("m", "surface displacement into the slab"),
+    "gap": ("m", "gap between slab and indenter"),
+    "contact": ("1", "contact mask (1 in contact)"),
+    "G_front": ("1", "local conservative energy release rate G/Δγ on outer front cells"),
+}
+STATUS = ("1", "partial | full_contact | detached | not_converged")
+
+
+def _operator(scene: Scene) -> SpectralOperator:
+    return SpectralOperator(scene.cell, scene.material, scene.layer, velocity=scene.velocity,
+                            threads=scene.solver["threads"])
+
+
+def _front_release(op, r, dgamma):
+    """G1, G2 (J/m²), μ_a numerator -Σ G (n·v̂) ds (N) and the G/Δγ map on the front."""
+    t = r.tests
+    b = t.bands
+    vhat = sliding_direction(op)
+    ok = b.outer_front & np.isfinite(t.G_close)
+    nx, ny = b.normal[0], b.normal[1]
+    cell = op.cell
+    # front length per cell of a 4-connected staircase with normal n (hy for n = x̂)
+    ds_ = 1.0 / np.maximum(np.abs(nx) / cell.hy + np.abs(ny) / cell.hx, 1.0 / max(cell.hx,
+                                                                                   cell.hy))
+    force = -float(np.sum(np.where(ok, t.G_close * (nx * vhat[0] + ny * vhat[1]) * ds_, 0)))
+    G = []
+    for col in t.colour_map:
+        sel = ok & col
+        G.append(float(t.G_close[sel].mean()) if sel.any() else np.nan)
+    if len(G) == 1:
+        G = G * 2
+    gmap = np.where(ok, t.G_close / np.broadcast_to(np.asarray(dgamma, float), ok.shape), np.nan)
+    return G[0], G[1], force, gmap
+
+
+def _adhesiveless_mask(op, scene: Scene):
+    """Initial mask of an adhesive solve: the adhesiveless contact at the same penetration,
+    or at the same load (at |load|, or a light touch at zero load)."""
+    from .contact import solve_contact
+
+    h = scene.heights
+    if scene.delta is not None:
+        if scene.delta <= 0:
+            return None
+        res = solve_contact(op, h, penetration=scene.delta, tol=1e-6)
+    else:
+        p = abs(scene.p_mean) or 1e-4 * scene.material.E0 * float(np.std(h)) / max(
+            scene.cell.Lx, scene.cell.Ly)
+        res = solve_contact(op, h, mean_pressure=p, tol=1e-6)
+    return res.mask if res.mask.any() and not res.mask.all() else None
+
+
+def _solve_grid(scene: Scene, mask0=None):
+    import xarray as xr
+
+    from .adhesive import solve_adhesive
+    from .contact import friction, solve_contact
+
+    op = _operator(scene)
+    cell, h = scene.cell, scene.heights
+    tol = scene.solver["tol"]
+    sc = {}
+    fields = {"heights": h}
+    if scene.adhesive:
+        if mask0 is None:  # start from the adhesiveless contact (not from one summit cell)
+            mask0 = _adhesiveless_mask(op, scene)
+        r = solve_adhesive(op, h, scene.dgamma, scene.a0, penetration=scene.delta,
+                           mean_pressure=scene.p_mean, mask0=mask0, rtol=tol,
+                           max_outer=scene.solver["max_outer"])
+        p, mask, delta, status = r.pressure, r.mask, r.penetration, r.status
+        u = op.apply(p)
+        msg = r.message
+        sc.update(iterations=r.outer_iterations, solves=r.solves)
+        if status == "partial" and r.tests is not None:
+            G1, G2, fa, gmap = _front_release(op, r, scene.dgamma)
+            W = float(p.sum()) * cell.cell_area
+            small = abs(W) <= 1e-9 * float(np.abs(p).sum()) * cell.cell_area
+            sc.update(G1=G1, G2=G2, mu_adhesive=np.nan if small else fa / W)
+            fields["G_front"] = gmap
+        else:
+            sc.update(G1=np.nan, G2=np.nan, mu_adhesive=np.nan)
+        diag = {"a0_effective": r.a0_effective, "method": "front-layer energy balance",
+                "history": r.history[-20:]}
+    else:
+        res = solve_contact(op, h, mean_pressure=scene.p_mean, penetration=scene.delta,
+                            tol=tol, maxiter=scene.solver["max_iterations"])
+        p, mask, delta, u = res.pressure, res.mask, res.penetration, res.displacement
+        status = ("full_contact" if res.full_contact else "partial") if res.converged else (
+            "not_converged")
+        msg = res.message
+        sc.update(iterations=res.iterations)
+        diag = {"method": res.method, **res.diagnostics}
+    w = h - float(h.max()) + delta
+    gap = np.where(mask, 0.0, u - w)
+    fr = friction(op, h, p, u)
+    sc.update(mean_pressure=float(p.mean()), penetration=float(delta),
+              area_fraction=float(mask.mean()), **fr)
+    data = {k: ((), float(v), dict(zip(("units", "long_name"), SCALARS[k], strict=True)))
+            for k, v in sc.items()}
+    data["status"] = ((), status, dict(zip(("units", "long_name"), STATUS, strict=True)))
+    if scene.fields:
+        fields.update(pressure=p, displacement=u, gap=gap, contact=mask.astype(np.int8))
+        for k, v in fields.items():
+            data[k] = (("x", "y"), v, dict(zip(("units", "long_name"), FIELDS[k], strict=True)))
+    ds = xr.Dataset(data, coords={
+        "x": ("x", cell.x, {"units": "m", "long_name": "position along x"}),
+        "y": ("y", cell.y, {"units": "m", "long_name": "position along y"})})
+    ds.attrs.update(solver_message=msg, solver_diagnostics=json.dumps(diag, default=str),
+                    velocity_x=float(op.velocity[0]), velocity_y=float(op.velocity[1]))
+    return ds, mask
+
+
+def _dimensionless_groups(scene: Scene) -> dict:
+    """ζ, β, Γ, ã0, the wave number k, amplitude Λ and p* of a physical sinusoid scene."""
+    sf = scene.spec["surface"]
+    lam = sf["wavelength"] or scene.cell.Lx
+    k, amp = 2 * np.pi / lam, sf["amplitude"]
+    m = scene.material
+    E0, nu = m.E0, m.nu
+    if isinstance(m, StandardLinearSolid) and scene.velocity[0] != 0.0:
+        zeta, beta = k * abs(scene.velocity[0]) * m.tau, m.Einf / m.E0
+    else:
+        zeta, beta = 0.0, 1.0
+    from .conventions import gamma_from_dgamma, p_star
+
+    return dict(zeta=zeta, beta=beta, Gamma=gamma_from_dgamma(scene.dgamma, E0, nu, k, amp),
+                a0_tilde=k * scene.a0 if scene.adhesive else 0.0, k=k, amp=amp,
+                pstar=p_star(E0, nu, k, amp))
+
+
+def _solve_1d(scene: Scene, guess=None):
+    """A sinusoid scene through the seed's 1D method (dimensionless, then SI for physical
+    scenes)."""
+    from . import sinusoid1d
+
+    phys = scene.kind == "physical"
+    d = _dimensionless_groups(scene) if phys else dict(scene.params, k=1.0, amp=1.0, pstar=0.5)
+    if not 0.0 <= d["a0_tilde"] <= 1.0:
+        raise SceneError(f"adhesion.a0: k a0 = {d['a0_tilde']!r} is outside the 1D method's "
+                         "range [0, 1]")
+    pt = None if scene.p_mean is None else scene.p_mean / d["pstar"]
+    dt = None if scene.delta is None else scene.delta / d["amp"]
+    ds = sinusoid1d.solve(d["zeta"], d["beta"], d["Gamma"], p_tilde=pt, delta_tilde=dt,
+                          a0_tilde=d["a0_tilde"], guess=guess)
+    if not phys:
+        return ds
+    k, amp, ps = d["k"], d["amp"], d["pstar"]
+    dg = scene.dgamma if scene.adhesive else np.nan
+    vals = dict(mean_pressure=ds.p_tilde.item() * ps, penetration=ds.delta_tilde.item() * amp,
+                area_fraction=ds.a_tilde.item() / np.pi, mu=ds.mu_bar.item() * k * amp,
+                mu_adhesive=ds.mu_bar_adhesive.item() * k * amp,
+                G1=ds.G1_over_dgamma.item() * dg, G2=ds.G2_over_dgamma.item() * dg,
+                contact_half_width=ds.a_tilde.item() / k, eccentricity=ds.e_tilde.item() / k)
+    for key, v in vals.items():
+        ds[key] = ((), float(v), dict(zip(("units", "long_name"), SCALARS[key], strict=True)))
+    ds["pressure"] = (("x",), -ds.sigma_tilde.values * ps,
+                      dict(zip(("units", "long_name"), FIELDS["pressure"], strict=True)))
+    ds["displacement"] = (("x",), ds.u_tilde.values * amp,
+                          dict(zip(("units", "long_name"), FIELDS["displacement"], strict=True)))
+    ds = ds.assign_coords(position=("x", ds.x_tilde.values / k,
+                                    {"units": "m", "long_name": "position along x"}))
+    ds.attrs.update({f"dimensionless_{n}": float(d[n]) for n in ("zeta", "beta", "Gamma",
+                                                                  "a0_tilde")})
+    return ds
+
+
+def _solve_one(scene: Scene, state):
+    """One control value; ``state`` carries the mask (grid) or edges (1D) between steps."""
+    if scene.model == "sinusoid1d":
+        ds = _solve_1d(scene, guess=state)
+        ok = ds.status.item() == "partial"
+        return ds, ((ds.attrs["l1_tilde"], ds.attrs["l2_tilde"]) if ok else None)
+    if scene.kind == "sinusoid":
+        ds = _solve_seed_grid(scene, mask0=state, rtol=scene.solver["tol"])
+        return ds, ds.contact.values.astype(bool) if "contact" in ds else None
+    ds, mask = _solve_grid(scene, mask0=state)
+    return ds, (mask if scene.adhesive and mask.any() and not mask.all() else None)
+
+
+def solve(scene: Scene, *, mask0=None, progress: bool = False):
+    """Solve a scene; returns an xarray Dataset.
+
+    Seed scenes use the 1D method's dimensionless names (``a_tilde``, ``e_tilde``,
+    ``p_tilde``, ``delta_tilde``, ``mu_bar``, ``mu_bar_adhesive``, ``G1_over_dgamma``,
+    ``G2_over_dgamma``, ``status``); physical scenes SI names (``mean_pressure``, ``mu``,
+    ``G1``, ...).  A path scene returns a ``step`` dimension.  Attributes: the model that ran,
+    the scene (JSON), package version, UTC timestamp, FFT backend and threads, solver message.
+    """
+    import xarray as xr
+
+    from . import fft
+
+    steps = scene.steps
+    state = mask0
+    out = []
+    it = steps
+    if progress and len(steps) > 1:
+        from tqdm import tqdm
+
+        it = tqdm(steps, desc="path", unit="step")
+    for v in it:
+        ds, state = _solve_one(scene.at_step(v), state)
+        out.append(ds)
+    if len(out) == 1:
+        ds = out[0]
+    else:
+        name = scene.control[0]
+        ds = xr.concat(out, dim="step", combine_attrs="drop_conflicts", data_vars="all")
+        vals = np.asarray(scene.control[1], float)
+        if scene.kind == "sinusoid" and name == "mean_pressure":
+            name, vals = "p_tilde", vals / 0.5
+        ds = ds.assign_coords(step=("step", np.arange(len(out)), {"units": "1",
+                                                                 "long_name": "path step"}),
+                              control_value=("step", vals, {
+                                  "units": "1" if scene.kind == "sinusoid" else (
+                                      "Pa" if name == "mean_pressure" else "m"),
+                                  "long_name": f"prescribed {name}"}))
+    for var in list(ds.variables.values()):
+        var.attrs.setdefault("units", "1")
+        var.attrs.setdefault("long_name", var.name if hasattr(var, "name") else "")
+    ds.attrs.update(
+        title=f"spectralbem result: {scene.spec.get('scene', {}).get('name', scene.kind)}",
+        model=scene.model, spectralbem_version=__version__,
+        created_utc=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+        fft_backend=fft.backend(), fft_threads=int(scene.solver["threads"]),
+        scene=json.dumps(scene.spec, sort_keys=True, default=str),
+        conventions="spectralbem.conventions: SI units; u into the slab, p compressive "
+                    "positive; seed Fourier convention (Im E < 0 for ω > 0)")
     return ds

@@ -119,3 +119,71 @@ def from_npy(path, cell: Cell) -> np.ndarray:
     if h.ndim == 1:
         h = h[:, None]
     return check_heights(h, cell, name=f"height map {path.name}")
+
+
+TEXT_SUFFIXES = (".txt", ".csv", ".dat", ".asc")
+
+
+def read_heights(path, *, variable: str = "heights", scale: float = 1.0):
+    """Read a height map; returns ``(h, size)`` with h (Nx, Ny) in m (file values × ``scale``)
+    and size = (Lx, Ly) in m when the file states it (netCDF coordinates, instrument files),
+    else None.
+
+    Formats: ``.npy``; plain text / CSV matrices (``.txt .csv .dat .asc``, rows = x index,
+    ``#`` comments); netCDF (``.nc``: the variable ``variable`` on dimensions (x, y), with
+    uniformly spaced coordinates giving the size); anything else through SurfaceTopography's
+    ``read_topography`` when that optional package is installed.
+    """
+    path = Path(path)
+    scale = _finite_positive("scale", scale)
+    if not path.is_file():
+        raise SurfaceError(f"height map {str(path)!r} does not exist")
+    suffix = path.suffix.lower()
+    size = None
+    try:
+        if suffix == ".npy":
+            h = np.load(path, allow_pickle=False)
+        elif suffix in TEXT_SUFFIXES:
+            with path.open() as fh:
+                first = next((ln for ln in fh if ln.strip() and not ln.startswith("#")), "")
+            h = np.loadtxt(path, delimiter="," if "," in first else None, ndmin=2)
+        elif suffix == ".nc":
+            import xarray as xr
+
+            with xr.open_dataset(path) as ds:
+                if variable not in ds:
+                    raise SurfaceError(f"height map {str(path)!r} has no variable "
+                                       f"{variable!r} (variables: {', '.join(ds.data_vars)})")
+                da = ds[variable].load()
+            h = da.values
+            if h.ndim == 2 and all(d in da.coords for d in da.dims):
+                size = []
+                for d in da.dims:
+                    c = np.asarray(da[d].values, float)
+                    step = np.diff(c)
+                    if c.size < 2 or np.ptp(step) > 1e-6 * abs(step.mean()):
+                        size = None
+                        break
+                    size.append(float(step.mean() * c.size * scale))
+                size = tuple(size) if size else None
+        else:
+            try:
+                from SurfaceTopography import read_topography
+            except ImportError as exc:
+                raise SurfaceError(
+                    f"height map {str(path)!r}: unknown format {suffix!r}; supported: .npy, "
+                    f"{', '.join(TEXT_SUFFIXES)}, .nc, or instrument formats with the optional "
+                    "package SurfaceTopography installed") from exc
+            topo = read_topography(str(path))
+            h = np.asarray(topo.heights(), dtype=float)
+            size = tuple(float(s) for s in topo.physical_sizes)
+    except SurfaceError:
+        raise
+    except Exception as exc:  # truncated or malformed files of any format
+        raise SurfaceError(f"cannot read height map {str(path)!r}: {exc}") from exc
+    h = np.asarray(h, dtype=float)
+    if h.ndim == 1:
+        h = h[:, None]
+    if h.ndim != 2 or h.size == 0:
+        raise SurfaceError(f"height map {str(path)!r} must be a 2D array, got shape {h.shape}")
+    return h * scale, size

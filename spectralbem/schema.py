@@ -1,0 +1,444 @@
+"""Scene files (TOML): the schema, and validation that reports every problem at once.
+
+A scene file describes one study.  Two forms exist:
+
+* a **physical scene** (SI units): sections ``[grid]``, ``[surface]``, ``[material]``,
+  ``[control]`` and optionally ``[layer]``, ``[adhesion]``, ``[motion]``, ``[solver]``,
+  ``[output]``;
+* the **seed scene** ``[sinusoid]``: the paper's dimensionless sinusoid problem (ζ, β, Γ, p̃ or
+  Δ̃, ã0), run by the 1D method or on the grid.
+
+Both may carry ``[scene]`` (name, description, model).  :func:`validate` walks a parsed TOML
+mapping and returns the problems as ``"key.path: message"`` lines (unknown keys, missing keys,
+wrong types, numbers given with units, values out of range, inconsistent combinations);
+:func:`reference_markdown` renders the schema for docs/user_guide.md.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+
+REQUIRED = object()
+
+
+class SceneError(ValueError):
+    """Invalid scene: the message lists every problem, one per line, with its key path."""
+
+    def __init__(self, problems):
+        self.problems = list(problems) if not isinstance(problems, str) else [problems]
+        n = len(self.problems)
+        head = "invalid scene" if n == 1 else f"invalid scene ({n} problems)"
+        super().__init__(head + ":\n  " + "\n  ".join(self.problems))
+
+
+@dataclass(frozen=True)
+class Key:
+    """One scene key: its type, unit, allowed range or choices, default and meaning."""
+
+    type: str  # number | integer | string | boolean | numbers | number_or_numbers | path
+    doc: str
+    units: str = ""
+    lo: float | None = None
+    hi: float | None = None
+    lo_open: bool = False  # lo itself is excluded
+    choices: tuple = ()
+    default: object = REQUIRED
+
+    def range_text(self) -> str:
+        if self.choices:
+            return "one of " + ", ".join(repr(c) for c in self.choices)
+        if self.lo is None and self.hi is None:
+            return "any finite value" if self.type.startswith("number") else ""
+        lo = "-inf" if self.lo is None else f"{self.lo:g}"
+        hi = "inf" if self.hi is None else f"{self.hi:g}"
+        return f"{'(' if self.lo_open else '['}{lo}, {hi}]"
+
+
+def _k(type_, doc, units="", lo=None, hi=None, lo_open=False, choices=(), default=REQUIRED):
+    return Key(type_, doc, units, lo, hi, lo_open, tuple(choices), default)
+
+
+# -- sections without kinds ------------------------------------------------------------------
+SECTIONS = {
+    "scene": {
+        "name": _k("string", "short name of the study", default="scene"),
+        "description": _k("string", "free text", default=""),
+        "model": _k("string", "which model runs: 'auto' picks the 1D method for a "
+                    "y-invariant sinusoid it can solve (elastic or standard linear solid, "
+                    "half-space, sliding along x), the grid otherwise",
+                    choices=("auto", "grid2d", "sinusoid1d"), default="auto"),
+    },
+    "grid": {
+        "Lx": _k("number", "periodic cell length along x", "m", 0, None, True),
+        "Ly": _k("number", "periodic cell length along y", "m", 0, None, True),
+        "Nx": _k("integer", "cells along x (not only powers of two)", "", 8, 65536),
+        "Ny": _k("integer", "cells along y (1 for a y-invariant strip)", "", 1, 65536),
+    },
+    "adhesion": {
+        "dgamma": _k("number", "work of adhesion Δγ (0: adhesiveless)", "J/m²", 0, 1e6,
+                     default=0.0),
+        "dgamma_map": _k("path", "per-cell Δγ map (.npy, shape (Nx, Ny), J/m²); replaces "
+                         "dgamma", default=None),
+        "a0": _k("number", "advance width of the edge energy balance (a process-zone "
+                 "length; at least one cell, at most half the cell)", "m", 0, None, True,
+                 default=None),
+    },
+    "motion": {
+        "speed": _k("number", "sliding speed |v| of the indenter relative to the slab", "m/s",
+                    0, 1e6, default=None),
+        "direction_deg": _k("number", "angle of v to the x axis", "deg", -360, 360,
+                            default=0.0),
+        "velocity": _k("numbers", "velocity vector (vx, vy); alternative to speed and "
+                       "direction_deg", "m/s", -1e6, 1e6, default=None),
+    },
+    "control": {
+        "mean_pressure": _k("number_or_numbers", "mean (nominal) pressure, compressive "
+                            "positive; a list is a load/unload path run in order", "Pa",
+                            -1e12, 1e12, default=None),
+        "penetration": _k("number_or_numbers", "penetration Δ (mean-level gauge); a list is "
+                          "a path", "m", -1e3, 1e3, default=None),
+    },
+    "solver": {
+        "tol": _k("number", "relative tolerance of the contact / Krylov solves", "", 0, 1e-2,
+                  True, default=1e-10),
+        "max_iterations": _k("integer", "iteration guard of the contact solver", "", 1, 10**6,
+                             default=10000),
+        "max_outer": _k("integer", "iteration guard of the adhesive front iteration", "", 1,
+                        10**5, default=500),
+        "threads": _k("integer", "FFT threads", "", 1, 256, default=1),
+    },
+    "output": {
+        "fields": _k("boolean", "store the 2D fields (pressure, gap, ...) in the dataset",
+                     default=True),
+    },
+    "sinusoid": {
+        "zeta": _k("number", "ζ = k v τ (0: elastic E0 limit)", "1", 0, 1e12),
+        "beta": _k("number", "β = E∞/E0", "1", 1, 1e8),
+        "Gamma": _k("number", "Γ = (1-ν²)Δγ/(π E0 k Λ²) (0: adhesiveless)", "1", 0, 10),
+        "p_tilde": _k("number_or_numbers", "p̃∞ = p∞/p*, load control (a list is a path)", "1",
+                      -10, 100, default=None),
+        "delta_tilde": _k("number_or_numbers", "Δ̃ = Δ/Λ, displacement control", "1", -10, 10,
+                          default=None),
+        "a0_tilde": _k("number", "ã0 = k a0, advance width (0: strict SIF limit, 1D only)",
+                       "1", 0, 1),
+        "cells_per_wavelength": _k("integer", "grid model: cells per wavelength", "", 16,
+                                   1 << 20, default=1024),
+        "ny": _k("integer", "grid model: cells along y", "", 1, 4096, default=8),
+        "direction_deg": _k("number", "grid model: sliding direction to the wave vector",
+                            "deg", -360, 360, default=0.0),
+    },
+}
+
+# -- sections with a 'kind' ------------------------------------------------------------------
+KINDS = {
+    "surface": {
+        "sinusoid": {
+            "amplitude": _k("number", "Λ in h = Λ cos(2πx/λ), invariant along y", "m", 0,
+                            None, True),
+            "wavelength": _k("number", "λ; must divide Lx (default Lx)", "m", 0, None, True,
+                             default=None),
+        },
+        "bisinusoid": {
+            "amplitude": _k("number", "Λ in h = Λ cos(2πx/Lx) cos(2πy/Ly)", "m", 0, None,
+                            True),
+        },
+        "paraboloid": {
+            "radius": _k("number", "sphere radius R, h = -r²/(2R) about the cell centre", "m",
+                         0, None, True),
+        },
+        "self_affine": {
+            "hurst": _k("number", "Hurst exponent H", "", 0, 1, True),
+            "rolloff_wavelength": _k("number", "roll-off wavelength 2π/q_r", "m", 0, None,
+                                     True),
+            "cutoff_wavelength": _k("number", "short cut-off wavelength 2π/q_s (default 8 "
+                                    "cells)", "m", 0, None, True, default=None),
+            "rms_height": _k("number", "rms height (give this or rms_slope)", "m", 0, None,
+                             True, default=None),
+            "rms_slope": _k("number", "rms slope |∇h|", "", 0, 100, True, default=None),
+            "seed": _k("integer", "random seed (reproducible surfaces)", "", 0, 2**63 - 1,
+                       default=0),
+        },
+        "file": {
+            "path": _k("path", "height map: .npy, .txt/.csv matrix, .nc, or an instrument "
+                       "format read by SurfaceTopography (optional extra); relative to the "
+                       "scene file"),
+            "variable": _k("string", "netCDF variable holding the heights", default="heights"),
+            "scale": _k("number", "factor converting the file's values to m", "m/unit", 0,
+                        None, True, default=1.0),
+        },
+    },
+    "material": {
+        "elastic": {
+            "E": _k("number", "Young's modulus", "Pa", 0, None, True),
+            "nu": _k("number", "Poisson's ratio", "", -1, 0.5, True, default=0.5),
+        },
+        "sls": {
+            "E0": _k("number", "relaxed (low-frequency) modulus E0", "Pa", 0, None, True),
+            "Einf": _k("number", "glassy (high-frequency) modulus E∞ ≥ E0", "Pa", 0, None,
+                       True),
+            "tau": _k("number", "relaxation time τ of the creep function, Eq. (14)", "s", 0,
+                      None, True),
+            "nu": _k("number", "Poisson's ratio", "", -1, 0.5, True, default=0.5),
+        },
+        "prony": {
+            "E_eq": _k("number", "equilibrium modulus (= E0)", "Pa", 0, None, True),
+            "moduli": _k("numbers", "branch moduli E_k", "Pa", 0, None, True),
+            "times": _k("numbers", "branch relaxation times τ_k", "s", 0, None, True),
+            "nu": _k("number", "Poisson's ratio", "", -1, 0.5, True, default=0.5),
+        },
+        "tabulated": {
+            "path": _k("path", "CSV with columns ω (rad/s), E' (Pa), E'' (Pa, engineering "
+                       "sign)"),
+            "nu": _k("number", "Poisson's ratio", "", -1, 0.5, True, default=0.5),
+        },
+    },
+    "layer": {
+        "half_space": {},
+        "glued": {"thickness": _k("number", "layer thickness d, glued to a rigid plate "
+                                  "(Eq. A.4)", "m", 0, None, True)},
+        "pressure": {"thickness": _k("number", "layer thickness d under uniform pressure "
+                                     "(Eq. A.5)", "m", 0, None, True)},
+    },
+}
+KIND_DEFAULTS = {"layer": "half_space"}
+
+PHYSICAL = ("grid", "surface", "material", "layer", "adhesion", "motion", "control", "solver",
+            "output")
+_UNIT_STRING = re.compile(r"^\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?\s*[A-Za-zμ°%/²]+")
+
+
+def _check_value(path: str, key: Key, v, problems: list):
+    """Type and range of one value; returns the normalised value (or None on a problem)."""
+    unit = f" in {key.units}" if key.units and key.units != "1" else ""
+    rng = key.range_text()
+
+    def bad(msg):
+        problems.append(f"{path}: {msg}")
+        return None
+
+    def number(x, where=path):
+        if isinstance(x, bool) or not isinstance(x, (int, float)):
+            if isinstance(x, str) and _UNIT_STRING.match(x):
+                return bad(f"{x!r} carries a unit; units are fixed: give a plain number{unit}")
+            return bad(f"expected a number{unit}, got {type(x).__name__} {x!r}")
+        x = float(x)
+        if not math.isfinite(x):
+            return bad(f"{x!r} is not finite; allowed {rng}")
+        below = key.lo is not None and (x <= key.lo if key.lo_open else x < key.lo)
+        above = key.hi is not None and x > key.hi
+        if below or above:
+            return bad(f"{x!r} is outside the allowed range {rng}{unit}")
+        return x
+
+    t = key.type
+    if t == "number":
+        return number(v)
+    if t == "integer":
+        if isinstance(v, bool) or not isinstance(v, int):
+            return bad(f"expected an integer, got {type(v).__name__} {v!r}")
+        if (key.lo is not None and v < key.lo) or (key.hi is not None and v > key.hi):
+            return bad(f"{v!r} is outside the allowed range {rng}")
+        return int(v)
+    if t == "boolean":
+        if not isinstance(v, bool):
+            return bad(f"expected true or false, got {v!r}")
+        return v
+    if t in ("string", "path"):
+        if not isinstance(v, str) or (t == "path" and not v.strip()):
+            return bad(f"expected a {'file path' if t == 'path' else 'string'}, got {v!r}")
+        if key.choices and v not in key.choices:
+            return bad(f"{v!r} is not allowed; allowed values: {rng}")
+        return v
+    if t in ("numbers", "number_or_numbers"):
+        if t == "number_or_numbers" and not isinstance(v, list):
+            return number(v)
+        if not isinstance(v, list) or not v:
+            return bad(f"expected a non-empty list of numbers{unit}, got {v!r}")
+        n0 = len(problems)
+        out = [number(x, f"{path}[{i}]") for i, x in enumerate(v)]
+        return None if len(problems) > n0 else out
+    raise AssertionError(t)  # pragma: no cover
+
+
+def _check_section(name: str, spec: dict, got, problems: list) -> dict:
+    if not isinstance(got, dict):
+        problems.append(f"{name}: expected a table [{name}], got {got!r}")
+        return {}
+    out = {}
+    for key, val in got.items():
+        if key not in spec:
+            allowed = ", ".join(sorted(spec)) or "(no keys)"
+            problems.append(f"{name}.{key}: unknown key; allowed keys: {allowed}")
+            continue
+        out[key] = _check_value(f"{name}.{key}", spec[key], val, problems)
+    for key, k in spec.items():
+        if key not in got:
+            if k.default is REQUIRED:
+                problems.append(f"{name}.{key}: missing ({k.doc}{', ' + k.units if k.units else ''}"
+                                f"; allowed {k.range_text() or 'a value'})")
+            else:
+                out[key] = k.default
+    return out
+
+
+def _check_kind_section(name: str, got, problems: list) -> dict:
+    kinds = KINDS[name]
+    if got is None:
+        got = {"kind": KIND_DEFAULTS[name]}
+    if not isinstance(got, dict):
+        problems.append(f"{name}: expected a table [{name}], got {got!r}")
+        return {}
+    kind = got.get("kind", KIND_DEFAULTS.get(name))
+    if kind is None:
+        problems.append(f"{name}.kind: missing; allowed: {', '.join(kinds)}")
+        return {}
+    if kind not in kinds:
+        problems.append(f"{name}.kind: {kind!r} is not a known {name} kind; allowed: "
+                        f"{', '.join(kinds)}")
+        return {}
+    rest = {k: v for k, v in got.items() if k != "kind"}
+    out = _check_section(name, kinds[kind], rest, problems)
+    out["kind"] = kind
+    return out
+
+
+def validate(raw: dict) -> tuple[dict, list]:
+    """Check a parsed scene mapping; returns (normalised scene, list of problems).
+
+    The normalised scene has every section present with defaults filled in.
+    """
+    problems: list[str] = []
+    if not isinstance(raw, dict):
+        return {}, [f"(top level): expected a table of sections, got {raw!r}"]
+    known = set(SECTIONS) | set(KINDS)
+    for sec in raw:
+        if sec not in known:
+            problems.append(f"{sec}: unknown section; allowed: {', '.join(sorted(known))}")
+    out = {"scene": _check_section("scene", SECTIONS["scene"], raw.get("scene", {}), problems)}
+    if "sinusoid" in raw:
+        mixed = [s for s in PHYSICAL if s in raw]
+        if mixed:
+            problems.append(f"{', '.join(mixed)}: not allowed with [sinusoid] (the seed scene "
+                            "is dimensionless and complete)")
+        s = _check_section("sinusoid", SECTIONS["sinusoid"], raw["sinusoid"], problems)
+        out["sinusoid"] = s
+        if s and (s.get("p_tilde") is None) == (s.get("delta_tilde") is None):
+            problems.append("sinusoid.p_tilde / sinusoid.delta_tilde: give exactly one "
+                            "(load or displacement control)")
+        _check_seed(out, problems)
+        return out, problems
+    for sec in ("grid", "surface", "material", "control"):
+        if sec not in raw:
+            problems.append(f"{sec}: missing section [{sec}] (or use a [sinusoid] seed scene)")
+    for sec in ("surface", "material", "layer"):
+        if sec in raw or sec in KIND_DEFAULTS:
+            out[sec] = _check_kind_section(sec, raw.get(sec), problems)
+    for sec in ("grid", "adhesion", "motion", "control", "solver", "output"):
+        if sec in raw or sec not in ("grid", "control"):
+            out[sec] = _check_section(sec, SECTIONS[sec], raw.get(sec, {}), problems)
+    _check_physical(out, problems)
+    return out, problems
+
+
+def _check_seed(out, problems):
+    s = out.get("sinusoid") or {}
+    model = out["scene"].get("model", "auto")
+    if model == "grid2d" or (model == "auto" and s.get("direction_deg", 0.0) != 0.0):
+        n, a0 = s.get("cells_per_wavelength"), s.get("a0_tilde")
+        if n and a0 is not None and (s.get("Gamma") or 0) > 0:
+            hc = 2 * math.pi / n
+            if a0 < hc * (1 - 1e-9):
+                problems.append(f"sinusoid.a0_tilde: {a0!r} is smaller than one cell "
+                                f"({hc:.4g}) of the grid model; allowed [{hc:.4g}, 1]")
+
+
+def _check_physical(out, problems):
+    g, sf = out.get("grid") or {}, out.get("surface") or {}
+    mat, ctl = out.get("material") or {}, out.get("control") or {}
+    adh, mot = out.get("adhesion") or {}, out.get("motion") or {}
+    if mat.get("kind") == "sls" and mat.get("E0") and mat.get("Einf"):
+        if mat["Einf"] < mat["E0"]:
+            problems.append(f"material.Einf: {mat['Einf']!r} Pa is below material.E0 = "
+                            f"{mat['E0']!r} Pa; allowed [E0, inf)")
+    if mat.get("kind") == "prony" and mat.get("moduli") and mat.get("times"):
+        if len(mat["moduli"]) != len(mat["times"]):
+            problems.append(f"material.times: {len(mat['times'])} entries but material.moduli "
+                            f"has {len(mat['moduli'])}; they must match")
+    if "control" in out and (ctl.get("mean_pressure") is None) == (ctl.get("penetration") is None):
+        problems.append("control.mean_pressure / control.penetration: give exactly one")
+    if mot.get("velocity") is not None:
+        if len(mot["velocity"]) != 2:
+            problems.append(f"motion.velocity: {mot['velocity']!r} must have two entries "
+                            "(vx, vy) in m/s")
+        if mot.get("speed") is not None:
+            problems.append("motion.velocity / motion.speed: give one of them, not both")
+    dg = adh.get("dgamma") or 0.0
+    adhesive = dg > 0 or adh.get("dgamma_map") is not None
+    if adhesive and adh.get("a0") is None:
+        problems.append("adhesion.a0: missing (required when Δγ > 0): the advance width in m, "
+                        "at least one cell")
+    mp = ctl.get("mean_pressure")
+    if not adhesive and mp is not None:
+        vals = mp if isinstance(mp, list) else [mp]
+        if any(v is not None and v <= 0 for v in vals):
+            problems.append(f"control.mean_pressure: {mp!r} Pa; without adhesion the mean "
+                            "pressure must be > 0 (allowed (0, 1e12])")
+    if g.get("Lx") and g.get("Nx") and g.get("Ly") and g.get("Ny"):
+        hmin = min(g["Lx"] / g["Nx"], g["Ly"] / g["Ny"])
+        a0 = adh.get("a0")
+        if adhesive and a0 is not None:
+            if a0 < hmin * (1 - 1e-9):
+                problems.append(f"adhesion.a0: {a0!r} m is smaller than one cell ({hmin:.4g} "
+                                f"m); allowed [{hmin:.4g}, {0.5 * max(g['Lx'], g['Ly']):.4g}] m")
+            elif a0 > 0.5 * max(g["Lx"], g["Ly"]):
+                problems.append(f"adhesion.a0: {a0!r} m is larger than half the cell; allowed "
+                                f"[{hmin:.4g}, {0.5 * max(g['Lx'], g['Ly']):.4g}] m")
+        if sf.get("kind") == "sinusoid" and sf.get("wavelength"):
+            n = g["Lx"] / sf["wavelength"]
+            if abs(n - round(n)) > 1e-9 or round(n) < 1:
+                problems.append(f"surface.wavelength: {sf['wavelength']!r} m must divide "
+                                f"grid.Lx = {g['Lx']!r} m a whole number of times")
+        if sf.get("kind") == "self_affine" and sf.get("rolloff_wavelength"):
+            cut = sf.get("cutoff_wavelength") or 8 * max(g["Lx"] / g["Nx"], g["Ly"] / g["Ny"])
+            if cut >= sf["rolloff_wavelength"]:
+                problems.append(f"surface.cutoff_wavelength: {cut!r} m must be shorter than "
+                                f"surface.rolloff_wavelength = {sf['rolloff_wavelength']!r} m")
+            if sf["rolloff_wavelength"] > max(g["Lx"], g["Ly"]):
+                problems.append(f"surface.rolloff_wavelength: {sf['rolloff_wavelength']!r} m "
+                                f"exceeds the cell; allowed (0, {max(g['Lx'], g['Ly'])!r}] m")
+    if sf.get("kind") == "self_affine" and (sf.get("rms_height") is None) == (
+            sf.get("rms_slope") is None):
+        problems.append("surface.rms_height / surface.rms_slope: give exactly one")
+
+
+def reference_markdown() -> str:
+    """The scene reference (docs/user_guide.md), generated from the schema."""
+    lines = []
+
+    def table(title, spec):
+        lines.append(title)
+        lines.append("")
+        lines.append("| key | type | units | allowed | default | meaning |")
+        lines.append("|---|---|---|---|---|---|")
+        for key, k in spec.items():
+            d = "required" if k.default is REQUIRED else repr(k.default)
+            lines.append(f"| `{key}` | {k.type} | {k.units or '–'} | {k.range_text() or '–'} "
+                         f"| {d} | {k.doc} |")
+        lines.append("")
+
+    for sec, spec in SECTIONS.items():
+        table(f"### `[{sec}]`", spec)
+    for sec, kinds in KINDS.items():
+        default = KIND_DEFAULTS.get(sec)
+        lines.append(f"### `[{sec}]` — `kind` = {', '.join(repr(k) for k in kinds)}"
+                     + (f" (default {default!r})" if default else " (required)"))
+        lines.append("")
+        for kind, spec in kinds.items():
+            if spec:
+                table(f"#### `{sec}.kind = {kind!r}`", spec)
+            else:
+                lines.append(f"#### `{sec}.kind = {kind!r}`: no further keys")
+                lines.append("")
+    return "\n".join(lines)

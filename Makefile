@@ -18,7 +18,9 @@ $(STAMP): pyproject.toml
 venv: $(STAMP)
 
 demo: $(STAMP)
-	$(BIN)/python -m spectralbem.demo --out demo_out
+	mkdir -p demo_out
+	$(BIN)/spectralbem run cases/rubber_rough.toml -o demo_out/demo.nc
+	MPLBACKEND=Agg $(BIN)/spectralbem plot demo_out/demo.nc -o demo_out/demo.png
 
 test: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python -m pytest -n $(JOBS) -q
@@ -34,7 +36,7 @@ figures: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python cases/figures_1d.py
 
 lint: $(STAMP)
-	$(BIN)/ruff check spectralbem tests bench
+	$(BIN)/ruff check spectralbem tests bench cases
 
 clean:
 	rm -rf $(VENV) demo_out .pytest_cache

@@ -48,7 +48,7 @@ class Key:
 
     def range_text(self) -> str:
         if self.choices:
-            return "one of " + ", ".join(repr(c) for c in self.choices)
+            return "one of " + ", ".join(str(c) for c in self.choices)
         if self.lo is None and self.hi is None:
             return "any finite value" if self.type.startswith("number") else ""
         lo = "-inf" if self.lo is None else f"{self.lo:g}"
@@ -214,22 +214,30 @@ def _check_value(path: str, key: Key, v, problems: list):
     unit = f" in {key.units}" if key.units and key.units != "1" else ""
     rng = key.range_text()
 
-    def bad(msg):
-        problems.append(f"{path}: {msg}")
+    def bad(msg, where=path):
+        problems.append(f"{where}: {msg}")
         return None
 
     def number(x, where=path):
         if isinstance(x, bool) or not isinstance(x, (int, float)):
-            if isinstance(x, str) and _UNIT_STRING.match(x):
-                return bad(f"{x!r} carries a unit; units are fixed: give a plain number{unit}")
-            return bad(f"expected a number{unit}, got {type(x).__name__} {x!r}")
+            if isinstance(x, str):
+                try:
+                    float(x)
+                    return bad(f"expected a number{unit}, got the string {x!r}: write it "
+                               "without quotes", where)
+                except ValueError:
+                    pass
+                if _UNIT_STRING.match(x):
+                    return bad(f"{x!r} carries a unit; units are fixed: give a plain "
+                               f"number{unit}", where)
+            return bad(f"expected a number{unit}, got {type(x).__name__} {x!r}", where)
         x = float(x)
         if not math.isfinite(x):
-            return bad(f"{x!r} is not finite; allowed {rng}")
+            return bad(f"{x!r} is not finite; allowed {rng}{unit}", where)
         below = key.lo is not None and (x <= key.lo if key.lo_open else x < key.lo)
         above = key.hi is not None and x > key.hi
         if below or above:
-            return bad(f"{x!r} is outside the allowed range {rng}{unit}")
+            return bad(f"{x!r} is outside the allowed range {rng}{unit}", where)
         return x
 
     t = key.type
@@ -442,3 +450,21 @@ def reference_markdown() -> str:
                 lines.append(f"#### `{sec}.kind = {kind!r}`: no further keys")
                 lines.append("")
     return "\n".join(lines)
+
+
+def write_reference(path) -> None:
+    """Replace everything after the ``<!-- scene-reference -->`` marker of the user guide."""
+    from pathlib import Path
+
+    path = Path(path)
+    text = path.read_text()
+    marker = "<!-- scene-reference -->"
+    if marker not in text:
+        raise ValueError(f"{path} has no {marker} marker")
+    path.write_text(text.split(marker)[0] + marker + "\n" + reference_markdown() + "\n")
+
+
+if __name__ == "__main__":  # python -m spectralbem.schema: refresh docs/user_guide.md
+    from pathlib import Path
+
+    write_reference(Path(__file__).resolve().parent.parent / "docs" / "user_guide.md")

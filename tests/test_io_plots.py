@@ -57,10 +57,122 @@ def test_cli_plot_and_info(dataset, tmp_path, capsys):
     assert "does not exist" in capsys.readouterr().err
 
 
-def test_demo_runs(tmp_path):
-    from spectralbem.demo import run
+# -- datasets of every kind: round trip, units, plots, command line ----------------------------
+from pathlib import Path  # noqa: E402
 
-    nc = run(tmp_path)
-    ds = read_dataset(nc)
-    assert int(ds["converged"]) == 1 and 0 < float(ds["area_fraction"]) < 0.2
-    assert np.isfinite(float(ds["mu"])) and float(ds["mu"]) > 0
+import spectralbem as sb  # noqa: E402
+from spectralbem.plotting import plot_dataset  # noqa: E402
+from spectralbem.scenes import load_scene  # noqa: E402
+
+CASES = Path(__file__).resolve().parent.parent / "cases"
+KINDS = {
+    "grid": ("rubber_rough", {"grid.Nx": 32, "grid.Ny": 32,
+                              "surface.cutoff_wavelength": 1.25e-4}),
+    "adhesive_grid": ("jkr_sphere", {"grid.Nx": 128, "grid.Ny": 128, "adhesion.a0": 1.6e-5,
+                                     "control.mean_pressure": 1e3}),
+    "oned": ("sinusoid_physical", {}),
+    "path": ("jkr_sphere", {"grid.Nx": 64, "grid.Ny": 64, "adhesion.a0": 3.2e-5,
+                            "control.mean_pressure": [2e3, 500.0]}),
+}
+LABELS = {"grid": ("x (mm)", "distance along v (mm)"), "adhesive_grid": ("x (mm)",),
+          "oned": ("k x",), "path": ("p̄ (Pa)",)}
+
+
+@pytest.fixture(scope="module")
+def results():
+    return {k: sb.solve(load_scene(CASES / f"{c}.toml", overrides=o))
+            for k, (c, o) in KINDS.items()}
+
+
+@pytest.mark.parametrize("kind", sorted(KINDS))
+def test_scene_datasets_round_trip_and_plot(results, kind, tmp_path):
+    ds = results[kind]
+    for name, var in {**ds.data_vars, **ds.coords}.items():
+        assert var.attrs.get("units") is not None and var.attrs.get("long_name"), name
+    for key in ("model", "scene", "spectralbem_version", "created_utc", "fft_backend"):
+        assert key in ds.attrs, key
+    back = read_dataset(write_dataset(ds, tmp_path / "r.nc"))
+    xr.testing.assert_identical(back, ds)
+    fig = plot_dataset(back, tmp_path / "r.png")
+    assert (tmp_path / "r.png").stat().st_size > 10_000
+    xl = {ax.get_xlabel() for ax in fig.axes}
+    for label in LABELS[kind]:
+        assert label in xl, (label, xl)
+    if kind == "adhesive_grid":
+        assert "G_front" in ds and np.isfinite(ds.G_front.values).any()
+        assert "local G/Δγ on the front" in {ax.get_ylabel() for ax in fig.axes}
+
+
+def test_sweep_plot(tmp_path):
+    """The sweep plot kind, on a dataset assembled as run_sweep does (two swept keys)."""
+    ds = xr.Dataset({k: (("zeta", "p_tilde"), np.random.default_rng(0).random((4, 2)) + 0.1,
+                         {"units": "1", "long_name": k})
+                     for k in ("a_tilde", "e_tilde", "G1_over_dgamma", "G2_over_dgamma",
+                               "mu_bar")},
+                    coords={"zeta": ("zeta", [1e-3, 1e-2, 1e-1, 1.0], {"units": "1"}),
+                            "p_tilde": ("p_tilde", [0.05, 0.15], {"units": "1"})},
+                    attrs={"sweep_keys": '["sinusoid.zeta", "sinusoid.p_tilde"]'})
+    fig = plot_dataset(ds, tmp_path / "s.png")
+    assert fig.axes[0].get_xscale() == "log" and fig.axes[0].get_xlabel() == "sinusoid.zeta"
+    assert {ax.get_ylabel() for ax in fig.axes} >= {"ã", "ẽ", "G1/Δγ", "G2/Δγ", "μ/Λ̃"}
+    assert fig.axes[0].get_legend() is not None
+    assert (tmp_path / "s.png").stat().st_size > 10_000
+
+
+def test_cli_run_plot_help_and_errors(tmp_path, capsys):
+    out = tmp_path / "x.nc"
+    assert cli.main(["run", str(CASES / "rubber_rough.toml"), "-o", str(out), "-q",
+                     "--set", "grid.Nx=32", "--set", "grid.Ny=32",
+                     "--set", "surface.cutoff_wavelength=1.25e-4"]) == 0
+    assert cli.main(["plot", str(out)]) == 0 and out.with_suffix(".png").exists()
+    capsys.readouterr()
+    for cmd in ("run", "sweep", "plot", "validate", "info"):
+        with pytest.raises(SystemExit) as e:
+            cli.main([cmd, "--help"])
+        assert e.value.code == 0
+        assert "example" in capsys.readouterr().out
+    # failures: non-zero exit and a reason naming the problem
+    assert cli.main(["run", str(CASES / "rubber_rough.toml"), "-o", str(out), "--set",
+                     "grid.Nx=3"]) == 1
+    err = capsys.readouterr().err
+    assert "grid.Nx" in err and "[8, 65536]" in err
+    assert cli.main(["run", str(tmp_path / "none.toml"), "-o", str(out)]) == 1
+    assert "does not exist" in capsys.readouterr().err
+    assert cli.main(["run", str(CASES / "rubber_rough.toml"), "-o",
+                     str(tmp_path / "no" / "x.nc")]) == 1
+    assert "output folder" in capsys.readouterr().err
+
+
+def test_height_map_readers(tmp_path):
+    from spectralbem.scenes import SceneError
+    from spectralbem.surfaces import SurfaceError, read_heights
+
+    h = np.random.default_rng(1).standard_normal((16, 8)) * 1e-6
+    np.save(tmp_path / "h.npy", h)
+    np.savetxt(tmp_path / "h.txt", h)
+    np.savetxt(tmp_path / "h.csv", h * 1e6, delimiter=",")
+    x = (np.arange(16) + 0.5) * 1e-4
+    y = (np.arange(8) + 0.5) * 1e-4
+    xr.Dataset({"heights": (("x", "y"), h)}, coords={"x": x, "y": y}).to_netcdf(
+        tmp_path / "h.nc")
+    for name, scale in (("h.npy", 1.0), ("h.txt", 1.0), ("h.csv", 1e-6), ("h.nc", 1.0)):
+        got, size = read_heights(tmp_path / name, scale=scale)
+        np.testing.assert_allclose(got, h, rtol=1e-12, atol=1e-22)
+    assert read_heights(tmp_path / "h.nc")[1] == pytest.approx((1.6e-3, 0.8e-3))
+    raw = {"grid": {"Lx": 1.6e-3, "Ly": 0.8e-3, "Nx": 16, "Ny": 8},
+           "surface": {"kind": "file", "path": "h.nc"},
+           "material": {"kind": "elastic", "E": 1e6}, "control": {"mean_pressure": 1e3}}
+    sc = load_scene(raw, base_dir=tmp_path)
+    np.testing.assert_array_equal(sc.heights, h)
+    with pytest.raises(SceneError, match="grid.Lx.*physical size"):
+        load_scene({**raw, "grid": {**raw["grid"], "Lx": 2e-3}}, base_dir=tmp_path)
+    with pytest.raises(SceneError, match=r"surface.path.*shape \(16, 8\).*\(8, 8\)"):
+        load_scene({**raw, "grid": {**raw["grid"], "Nx": 8, "Lx": 0.8e-3},
+                    "surface": {"kind": "file", "path": "h.npy"}}, base_dir=tmp_path)
+    data = (tmp_path / "h.npy").read_bytes()
+    (tmp_path / "t.npy").write_bytes(data[: len(data) // 2])
+    with pytest.raises(SurfaceError, match="cannot read height map"):
+        read_heights(tmp_path / "t.npy")
+    with pytest.raises(SurfaceError, match="unknown format"):
+        (tmp_path / "h.xyz").write_text("1 2")
+        read_heights(tmp_path / "h.xyz")

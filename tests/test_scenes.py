@@ -1,0 +1,244 @@
+"""Scene files: validation (every problem at once, key path and allowed range), the model the
+scene decides, load paths, every case in cases/ at reduced resolution, unit conversions."""
+
+import copy
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import spectralbem as sb
+from spectralbem import reference as ref
+from spectralbem.scenes import load_scene
+from spectralbem.schema import SceneError, reference_markdown
+
+CASES = Path(__file__).resolve().parent.parent / "cases"
+
+BASE = {
+    "grid": {"Lx": 1e-3, "Ly": 1e-3, "Nx": 32, "Ny": 32},
+    "surface": {"kind": "bisinusoid", "amplitude": 1e-5},
+    "material": {"kind": "sls", "E0": 1e6, "Einf": 1e7, "tau": 1e-2, "nu": 0.5},
+    "motion": {"speed": 0.05},
+    "control": {"mean_pressure": 2e3},
+}
+
+
+def mutate(path, value, base=BASE):
+    raw = copy.deepcopy(base)
+    sec, _, key = path.partition(".")
+    if value is DELETE:
+        if key:
+            del raw[sec][key]
+        else:
+            del raw[sec]
+    elif key:
+        raw.setdefault(sec, {})[key] = value
+    else:
+        raw[sec] = value
+    return raw
+
+
+class _Delete:
+    def __repr__(self):
+        return "<delete>"
+
+
+DELETE = _Delete()
+
+# (mutation path, value, words the message must contain: the key path and the allowed range)
+MALFORMED = [
+    ("grid.Nx", 4, ["grid.Nx", "[8, 65536]"]),
+    ("grid.Nx", 1, ["grid.Nx", "[8, 65536]"]),
+    ("grid.Ny", 0, ["grid.Ny", "[1, 65536]"]),
+    ("grid.Nx", 32.5, ["grid.Nx", "integer"]),
+    ("grid.Lx", -1e-3, ["grid.Lx", "(0, inf]"]),
+    ("grid.Lx", "1 mm", ["grid.Lx", "unit", "in m"]),
+    ("grid.Lx", DELETE, ["grid.Lx", "missing"]),
+    ("grid.Lz", 1.0, ["grid.Lz", "unknown key", "Lx, Ly, Nx, Ny"]),
+    ("grid", DELETE, ["grid", "missing section"]),
+    ("material.kind", "rubber", ["material.kind", "'rubber'", "elastic, sls, prony, tabulated"]),
+    ("material.E0", 0.0, ["material.E0", "(0, inf]"]),
+    ("material.E0", -2e6, ["material.E0", "(0, inf]"]),
+    ("material.Einf", 5e5, ["material.Einf", "below material.E0", "[E0, inf)"]),
+    ("material.tau", 0.0, ["material.tau", "(0, inf]"]),
+    ("material.nu", 0.6, ["material.nu", "(-1, 0.5]"]),
+    ("material.nu", -1.0, ["material.nu", "(-1, 0.5]"]),
+    ("material.E0", "2e6", ["material.E0", "expected a number in Pa", "without quotes"]),
+    ("material.E0", float("nan"), ["material.E0", "not finite"]),
+    ("material.E0", float("inf"), ["material.E0", "not finite"]),
+    ("layer", {"kind": "glued", "thickness": 0.0}, ["layer.thickness", "(0, inf]"]),
+    ("layer", {"kind": "glued"}, ["layer.thickness", "missing"]),
+    ("layer", {"kind": "slab", "thickness": 1e-3}, ["layer.kind", "half_space, glued, pressure"]),
+    ("surface.kind", "fractal", ["surface.kind", "sinusoid, bisinusoid"]),
+    ("surface.amplitude", DELETE, ["surface.amplitude", "missing"]),
+    ("surface", {"kind": "self_affine", "hurst": 1.2, "rolloff_wavelength": 2e-4,
+                 "rms_slope": 0.1}, ["surface.hurst", "(0, 1]"]),
+    ("surface", {"kind": "self_affine", "hurst": 0.8, "rolloff_wavelength": 2e-4},
+     ["rms_height / surface.rms_slope", "exactly one"]),
+    ("surface", {"kind": "self_affine", "hurst": 0.8, "rolloff_wavelength": 2e-4,
+                 "cutoff_wavelength": 3e-4, "rms_slope": 0.1},
+     ["surface.cutoff_wavelength", "shorter"]),
+    ("surface", {"kind": "sinusoid", "amplitude": 1e-5, "wavelength": 3e-4},
+     ["surface.wavelength", "divide"]),
+    ("control", {}, ["control.mean_pressure / control.penetration", "exactly one"]),
+    ("control", {"mean_pressure": 1e3, "penetration": 1e-6}, ["exactly one"]),
+    ("control.mean_pressure", -5.0, ["control.mean_pressure", "without adhesion", "(0, 1e12]"]),
+    ("control.mean_pressure", [1e3, "x"], ["control.mean_pressure[1]", "expected a number"]),
+    ("motion.speed", -1.0, ["motion.speed", "[0, 1e+06]"]),
+    ("motion.velocity", [0.1, float("nan")], ["motion.velocity[1]", "not finite"]),
+    ("motion.velocity", [0.1, 0.0, 0.0], ["motion.velocity", "two entries"]),
+    ("adhesion", {"dgamma": -0.1, "a0": 1e-4}, ["adhesion.dgamma", "[0, 1e+06]"]),
+    ("adhesion", {"dgamma": 0.05}, ["adhesion.a0", "missing", "at least one cell"]),
+    ("adhesion", {"dgamma": 0.05, "a0": 1e-6}, ["adhesion.a0", "smaller than one cell"]),
+    ("adhesion", {"dgamma": 0.05, "a0": 0.9e-3}, ["adhesion.a0", "larger than half the cell"]),
+    ("adhesion", {"dgamma": 0.05, "a0": -1e-4}, ["adhesion.a0", "(0, inf]"]),
+    ("solver.tol", 0.5, ["solver.tol", "(0, 0.01]"]),
+    ("solver.threads", 0, ["solver.threads", "[1, 256]"]),
+    ("output.fields", "yes", ["output.fields", "true or false"]),
+    ("scene.model", "fem", ["scene.model", "auto, grid2d, sinusoid1d"]),
+    ("sinusoid", {"zeta": 0.1}, ["grid, surface", "not allowed with [sinusoid]"]),
+    ("extra", {"a": 1}, ["extra", "unknown section"]),
+]
+
+
+@pytest.mark.parametrize("path, value, words", MALFORMED,
+                         ids=[f"{i}-{m[0]}={m[1]!r}"[:40] for i, m in enumerate(MALFORMED)])
+def test_malformed_scene_rejected(path, value, words):
+    with pytest.raises(SceneError) as err:
+        load_scene(mutate(path, value))
+    msg = str(err.value)
+    for w in words:
+        assert w in msg, (w, msg)
+
+
+def test_every_problem_reported_at_once():
+    raw = mutate("grid.Nx", 2)
+    raw["material"]["nu"] = 0.7
+    raw["motion"]["speed"] = "fast"
+    raw["output"] = {"plot": True}
+    with pytest.raises(SceneError) as err:
+        load_scene(raw)
+    assert len(err.value.problems) == 4, err.value.problems
+    assert "(4 problems)" in str(err.value)
+
+
+def test_seed_scene_errors():
+    for kw, word in ((dict(zeta=-1.0), "sinusoid.zeta"), (dict(beta=0.5), "sinusoid.beta"),
+                     (dict(Gamma=20.0), "sinusoid.Gamma"), (dict(a0_tilde=2.0), "a0_tilde")):
+        raw = {"sinusoid": {"zeta": 0.1, "beta": 10, "Gamma": 0.008, "p_tilde": 0.1,
+                            "a0_tilde": 0.01, **kw}}
+        with pytest.raises(SceneError, match=word):
+            load_scene(raw)
+    with pytest.raises(SceneError, match="exactly one"):
+        load_scene({"sinusoid": {"zeta": 0.1, "beta": 10, "Gamma": 0.0, "a0_tilde": 0.0}})
+
+
+def test_valid_base_and_model_choice(monkeypatch):
+    """The scene decides the model: an elastic scene runs Polonsky–Keer (CG, no E(ω)); a
+    half-space never evaluates S; an adhesiveless scene never runs the energy balance; a
+    y-invariant sinusoid on an SLS half-space runs as 1D (recorded in the dataset)."""
+    import spectralbem.adhesive as adh
+    import spectralbem.layers as layers
+    from spectralbem.materials import StandardLinearSolid
+
+    def boom(*a, **k):
+        raise AssertionError("must not be called")
+
+    monkeypatch.setattr(layers, "s_glued", boom)
+    monkeypatch.setattr(layers, "s_pressure", boom)
+    monkeypatch.setattr(adh, "front_tests", boom)
+    monkeypatch.setattr(StandardLinearSolid, "compliance", boom)
+    el = mutate("material", {"kind": "elastic", "E": 1e6})
+    ds = sb.solve(load_scene(el))
+    assert ds.attrs["model"] == "grid2d" and ds.status.item() == "partial"
+    assert '"method": "polonsky-keer"' in ds.attrs["solver_diagnostics"]
+    monkeypatch.undo()
+    sc = load_scene({**BASE, "surface": {"kind": "sinusoid", "amplitude": 1e-5}})
+    assert sc.model == "sinusoid1d"
+    sc = load_scene({**BASE, "surface": {"kind": "sinusoid", "amplitude": 1e-5},
+                     "scene": {"model": "grid2d"}})
+    assert sc.model == "grid2d"
+    with pytest.raises(SceneError, match="'sinusoid1d' is not possible"):
+        load_scene({**BASE, "scene": {"model": "sinusoid1d"}})
+
+
+def test_physical_sinusoid_units_against_westergaard():
+    """An elastic adhesiveless physical sinusoid, run by the 1D method (model auto) and on
+    the grid: contact half-width against Westergaard in SI units.  1D: the method's own
+    accuracy (1e-5); grid: one cell (the mask resolution)."""
+    E, nu, lam, amp, p = 1e6, 0.5, 1e-4, 2e-6, 1.2e4
+    raw = {"grid": {"Lx": lam, "Ly": lam / 512 * 4, "Nx": 512, "Ny": 4},
+           "surface": {"kind": "sinusoid", "amplitude": amp},
+           "material": {"kind": "elastic", "E": E, "nu": nu},
+           "control": {"mean_pressure": p}}
+    pstar = E / (1 - nu**2) * np.pi * amp / lam
+    a_ref = ref.westergaard_a(p / pstar) / (2 * np.pi / lam)
+    one = sb.solve(load_scene(raw))
+    assert one.attrs["model"] == "sinusoid1d"
+    assert one.contact_half_width.item() == pytest.approx(a_ref, rel=1e-5)
+    assert one.mean_pressure.item() == pytest.approx(p, rel=1e-9)
+    grid = sb.solve(load_scene({**raw, "scene": {"model": "grid2d"}}))
+    assert grid.attrs["model"] == "grid2d"
+    a_grid = grid.area_fraction.item() * lam / 2
+    assert abs(a_grid - a_ref) <= lam / 512
+
+
+def test_load_path_jkr_sphere():
+    """JKR sphere along a load/unload path (the mask carried from step to step): contact
+    radius against JKR at every step within 1.5 cells (128², a ≈ 11 cells: the staircase
+    front and lattice trapping are of order one cell; the periodic images change a by < 1 %
+    at a/L < 0.1, physics.md §3.4)."""
+    R, E, w, L, n = 1e-3, 1e6, 0.05, 1e-3, 128
+    raw = {"grid": {"Lx": L, "Ly": L, "Nx": n, "Ny": n},
+           "surface": {"kind": "paraboloid", "radius": R},
+           "material": {"kind": "elastic", "E": E},
+           "adhesion": {"dgamma": w, "a0": 2 * L / n},
+           "control": {"mean_pressure": [500.0, 3000.0, 500.0, -100.0]}}
+    ds = sb.solve(load_scene(raw))
+    assert ds.sizes["step"] == 4
+    assert list(ds.control_value.values) == [500.0, 3000.0, 500.0, -100.0]
+    assert all(s == "partial" for s in ds.status.values), ds.status.values
+    a = np.sqrt(ds.area_fraction.values * L * L / np.pi)
+    a_jkr = [ref.jkr_radius(P * L * L, R, E / 0.75, w) for P in ds.control_value.values]
+    np.testing.assert_allclose(a, a_jkr, atol=1.5 * L / n)
+
+
+# reduced resolution for each case: (overrides)
+REDUCED = {
+    "rubber_rough": {"grid.Nx": 32, "grid.Ny": 32, "surface.cutoff_wavelength": 1.25e-4},
+    "seed_sinusoid_1d": {},
+    "seed_sinusoid_2d": {"sinusoid.cells_per_wavelength": 2513, "sinusoid.ny": 1},
+    "oblique_sliding": {"sinusoid.cells_per_wavelength": 1257, "sinusoid.ny": 1,
+                        "sinusoid.a0_tilde": 0.02},
+    "finite_thickness_glued": {"grid.Nx": 64, "grid.Ny": 1},
+    "finite_thickness_pressure": {"grid.Nx": 64, "grid.Ny": 1},
+    "prony_rubber": {"grid.Nx": 32, "grid.Ny": 32},
+    "jkr_sphere": {"grid.Nx": 128, "grid.Ny": 128, "adhesion.a0": 1.5625e-5,
+                   "control.mean_pressure": [1e3, 0.0]},
+    "rough_load_unload": {"grid.Nx": 64, "grid.Ny": 64, "adhesion.a0": 3.125e-5,
+                          "control.mean_pressure": [1e4, 3e3], "solver.max_outer": 10},
+    "sinusoid_physical": {},
+}
+
+
+def test_reduced_table_covers_every_case():
+    assert sorted(p.stem for p in CASES.glob("*.toml")) == sorted(REDUCED)
+
+
+@pytest.mark.parametrize("name", sorted(REDUCED))
+def test_every_case_runs(name):
+    ds = sb.solve(load_scene(CASES / f"{name}.toml", overrides=REDUCED[name]))
+    status = np.atleast_1d(ds.status.values)
+    assert all(s in ("partial", "full_contact", "detached", "not_converged") for s in status)
+    for v in ds.data_vars.values():  # NaN only where the status explains it
+        if v.dtype.kind == "f" and v.dims == ():
+            assert not np.isinf(v.values)
+    assert ds.attrs["model"] in ("grid2d", "sinusoid1d")
+    if name not in ("rough_load_unload",):  # a 32² adhesive rough cell with 10 outer iterations
+        assert status[0] in ("partial", "full_contact"), (name, status)
+
+
+def test_user_guide_reference_is_current():
+    """docs/user_guide.md embeds the schema reference generated from the code."""
+    guide = (CASES.parent / "docs" / "user_guide.md").read_text()
+    assert reference_markdown() in guide

@@ -1,0 +1,119 @@
+"""Sweeps on dask.distributed: resume after a killed driver (SIGKILL to the process group),
+a killed worker (dask retries), truncated point files (recomputed, never trusted)."""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import spectralbem as sb
+from spectralbem.io import read_dataset
+from spectralbem.scenes import load_scene
+from spectralbem.schema import SceneError
+from spectralbem.sweep import CRASH_ENV, parse_over, resolve_key, run_sweep
+
+CASE = Path(__file__).resolve().parent.parent / "cases" / "seed_sinusoid_1d.toml"
+ZETAS = [float(z) for z in np.geomspace(0.1, 10.0, 6)]
+
+
+def test_parse_over_and_keys():
+    assert parse_over("zeta=1e-3:1e2:6:log")[1] == pytest.approx(np.geomspace(1e-3, 1e2, 6))
+    assert parse_over("p_tilde=0.1,0.2")[1] == [0.1, 0.2]
+    assert parse_over("x=0:1:3")[1] == [0.0, 0.5, 1.0]
+    for bad in ("zeta", "zeta=1:2", "zeta=-1:2:3:log", "zeta=1:2:0", "zeta=a,b", "z=1:2:3:cube"):
+        with pytest.raises(SceneError, match="--over"):
+            parse_over(bad)
+    raw = {"sinusoid": {"zeta": 1.0}}
+    assert resolve_key(raw, "zeta") == "sinusoid.zeta"
+    with pytest.raises(SceneError, match="not a key of this scene"):
+        resolve_key(raw, "speed")
+
+
+def reference(zetas):
+    """The uninterrupted result, solved point by point in this process."""
+    out = []
+    for z in zetas:
+        ds = sb.solve(load_scene(CASE, overrides={"sinusoid.zeta": z}))
+        out.append({k: ds[k].item() for k in ds.data_vars if ds[k].dims == ()})
+    return out
+
+
+def assert_matches(ds, ref):
+    assert ds.sizes["zeta"] == len(ref)
+    for i, r in enumerate(ref):
+        for k, v in r.items():
+            got = ds[k].values[i]
+            if isinstance(v, str):
+                assert got == v
+            else:  # the same code on the same machine: bit-identical (nan == nan)
+                np.testing.assert_array_equal(got, v, err_msg=k)
+
+
+def stats(parts):
+    return {p.name: (p.stat().st_ino, p.stat().st_mtime_ns) for p in parts.glob("point_*.nc")}
+
+
+@pytest.fixture(scope="module")
+def ref6():
+    return reference(ZETAS)
+
+
+def test_killed_sweep_resumes_without_recomputing(tmp_path, ref6):
+    out = tmp_path / "z.nc"
+    cmd = [sys.executable, "-m", "spectralbem.cli", "sweep", str(CASE), "--over",
+           "zeta=0.1:10:6:log", "-o", str(out), "--workers", "2", "-q"]
+    proc = subprocess.Popen(cmd, start_new_session=True, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE)
+    parts = Path(str(out) + ".parts")
+    t0 = time.time()
+    while len(list(parts.glob("point_*.nc"))) < 1 and time.time() - t0 < 120:
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGKILL)  # the whole process group: driver and workers
+    proc.wait()
+    before = stats(parts)
+    assert 1 <= len(before) < 6, before  # killed midway
+    assert not out.exists()
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    after = stats(parts)
+    assert len(after) == 6
+    for name, st in before.items():  # finished points were neither recomputed nor rewritten
+        assert after[name] == st, name
+    assert_matches(read_dataset(out), ref6)
+
+
+def test_worker_crash_retried_and_truncated_file_recomputed(tmp_path, monkeypatch, ref6):
+    out = tmp_path / "c.nc"
+    marker = tmp_path / "crashed"
+    monkeypatch.setenv(CRASH_ENV, f"1:{marker}")
+    over = [("zeta", ZETAS[:3])]
+    run_sweep(CASE, over, out, workers=2, progress=False)
+    assert marker.exists()  # the worker solving point 1 died once; dask retried the point
+    ds = read_dataset(out)
+    assert_matches(ds, ref6[:3])
+    monkeypatch.delenv(CRASH_ENV)
+    # truncate a finished point file and the final file: resume detects and recomputes
+    parts = Path(str(out) + ".parts")
+    p1 = parts / "point_00001.nc"
+    before = stats(parts)
+    data = p1.read_bytes()
+    p1.write_bytes(data[: len(data) // 2])
+    out.write_bytes(out.read_bytes()[:100])
+    run_sweep(CASE, over, out, workers=1, progress=False)
+    after = stats(parts)
+    assert after["point_00000.nc"] == before["point_00000.nc"]
+    assert after["point_00002.nc"] == before["point_00002.nc"]
+    assert after["point_00001.nc"] != before["point_00001.nc"]
+    xr.testing.assert_equal(read_dataset(out), ds)
+
+
+def test_sweep_rejects_bad_points_before_solving(tmp_path):
+    with pytest.raises(SceneError, match=r"point 1 .*sinusoid.zeta"):
+        run_sweep(CASE, [("zeta", [0.1, -1.0])], tmp_path / "b.nc", progress=False)
+    assert not (tmp_path / "b.nc.parts").exists()

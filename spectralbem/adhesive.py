@@ -22,6 +22,7 @@ from .contact import sliding_direction
 from .criterion import front_cells, front_tests, layers, sub_cell_offset
 from .masked import solve_masked
 from .spectral import SpectralOperator
+from .surfaces import check_heights
 
 #: a front cell moves when the balanced edge l* lies more than this many cells beyond it
 DEAD_BAND = 0.6
@@ -70,15 +71,24 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     ``dgamma``: work of adhesion Δγ (J/m², scalar or per-cell map); ``a0``: advance width (m),
     at least one cell.
     """
-    h = np.asarray(heights, dtype=float)
     cell = op.cell
+    h = check_heights(heights, cell)
     if (penetration is None) == (mean_pressure is None):
         raise ValueError("give exactly one of penetration and mean_pressure")
+    for name, v in (("penetration", penetration), ("mean_pressure", mean_pressure)):
+        if v is not None and not np.isfinite(v):
+            raise ValueError(f"{name} = {v!r} must be a finite number")
+    dg = np.asarray(dgamma, dtype=float)
+    if dg.ndim and dg.shape != cell.shape:
+        raise ValueError(f"dgamma map has shape {dg.shape}, the grid is {cell.shape}")
+    if not np.all(np.isfinite(dg)) or np.any(dg < 0) or not np.any(dg > 0):
+        raise ValueError(f"dgamma (work of adhesion, J/m²) must be finite, >= 0 and somewhere "
+                         f"> 0; got min {dg.min()!r}, max {dg.max()!r}")
     hmin = min(cell.hx, cell.hy)
-    if not (a0 >= hmin * (1 - 1e-9)):
-        raise ValueError(f"a0 = {a0!r} must be at least one cell ({hmin!r} m)")
-    if a0 > 0.5 * max(cell.Lx, cell.Ly):
-        raise ValueError(f"a0 = {a0!r} must be smaller than half the cell")
+    a0_max = 0.5 * max(cell.Lx, cell.Ly)
+    if not (hmin * (1 - 1e-9) <= a0 <= a0_max):
+        raise ValueError(f"a0 = {a0!r} m is outside the allowed range [{hmin!r}, {a0_max!r}] "
+                         "m (one cell to half the cell)")
     a0 = layers(a0, cell.hx, cell.hy) * hmin  # the band width actually used (m layers)
     hmax = float(h.max())
     vhat = sliding_direction(op)

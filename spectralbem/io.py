@@ -74,7 +74,10 @@ def write_dataset(ds: xr.Dataset, path) -> Path:
         raise OSError(f"output folder {str(folder)!r} does not exist")
     if not os.access(folder, os.W_OK):
         raise OSError(f"output folder {str(folder)!r} is not writable")
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
+    except OSError as exc:
+        raise OSError(f"output path {str(path)!r} is not writable: {exc.strerror}") from exc
     os.close(fd)
     try:
         ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4")

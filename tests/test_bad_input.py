@@ -1,0 +1,160 @@
+"""Bad-input catalogue (issue 7): the Python API and the command line reject each input before
+any heavy work, with an error naming the parameter, its value and the allowed range.  The
+scene-file part of the catalogue is ``tests/test_scenes.py::MALFORMED`` (46 entries)."""
+
+import numpy as np
+import pytest
+
+from spectralbem import cli, fft, sinusoid1d
+from spectralbem.adhesive import solve_adhesive
+from spectralbem.contact import solve_contact
+from spectralbem.io import write_dataset
+from spectralbem.layers import GluedLayer, PressureLayer
+from spectralbem.materials import Elastic, Prony, StandardLinearSolid, Tabulated
+from spectralbem.scenes import Scene
+from spectralbem.spectral import Cell, SpectralOperator
+from spectralbem.surfaces import bisinusoid, paraboloid, read_heights, self_affine, sinusoid
+
+CELL = Cell(1.0, 1.0, 16, 16)
+OP = SpectralOperator(CELL, Elastic(1.0, 0.3))
+H = bisinusoid(CELL, 0.01)
+
+
+def with_bad(value, at=3):
+    h = H.copy()
+    h.flat[at] = value
+    return h
+
+
+API = [
+    ("Cell Nx=0", lambda: Cell(1.0, 1.0, 0, 16), ["Nx = 0", "[4, 65536]"]),
+    ("Cell 1x1", lambda: Cell(1.0, 1.0, 1, 1), ["Nx = 1", "[4, 65536]"]),
+    ("Cell Lx nan", lambda: Cell(np.nan, 1.0, 16, 16), ["Lx = nan", "> 0"]),
+    ("Cell Ly<0", lambda: Cell(1.0, -2.0, 16, 16), ["Ly = -2.0", "> 0"]),
+    ("E = 0", lambda: Elastic(0.0, 0.3), ["E = 0.0", "> 0"]),
+    ("E nan", lambda: Elastic(np.nan, 0.3), ["E = nan", "> 0"]),
+    ("nu 0.7", lambda: Elastic(1.0, 0.7), ["nu = 0.7", "(-1, 0.5]"]),
+    ("nu -1", lambda: Elastic(1.0, -1.0), ["nu = -1.0", "(-1, 0.5]"]),
+    ("Einf<E0", lambda: StandardLinearSolid(2.0, 1.0, 1.0), ["Einf = 1.0", ">= E0 = 2.0"]),
+    ("tau 0", lambda: StandardLinearSolid(1.0, 2.0, 0.0), ["tau = 0.0", "> 0"]),
+    ("tau -1", lambda: StandardLinearSolid(1.0, 2.0, -1.0), ["tau = -1.0", "> 0"]),
+    ("prony mismatch", lambda: Prony(1.0, (1.0, 2.0), (1.0,)), ["moduli has 2", "times has 1"]),
+    ("prony E<0", lambda: Prony(1.0, (-1.0,), (1.0,)), ["moduli[0] = -1.0", "> 0"]),
+    ("table omega", lambda: Tabulated((1.0, 0.5), (1.0, 2.0), (0.1, 0.1)),
+     ["omega", "strictly increasing"]),
+    ("table loss<0", lambda: Tabulated((1.0, 2.0), (1.0, 2.0), (-0.1, 0.1)),
+     ["loss", ">= 0"]),
+    ("table file", lambda: Tabulated.from_csv("/nonexistent/e.csv"),
+     ["/nonexistent/e.csv", "cannot read"]),
+    ("glued d=0", lambda: GluedLayer(0.0), ["d = 0.0", "> 0"]),
+    ("pressure d<0", lambda: PressureLayer(-1.0), ["d = -1.0", "> 0"]),
+    ("velocity nan", lambda: SpectralOperator(CELL, Elastic(1.0), velocity=(np.nan, 0.0)),
+     ["velocity = (nan, 0.0)", "finite"]),
+    ("velocity 3d", lambda: SpectralOperator(CELL, Elastic(1.0), velocity=(1, 0, 0)),
+     ["velocity = (1, 0, 0)", "(vx, vy)"]),
+    ("heights shape", lambda: solve_contact(OP, np.zeros((8, 8)), mean_pressure=0.1),
+     ["heights", "(8, 8)", "(16, 16)"]),
+    ("heights nan", lambda: solve_contact(OP, with_bad(np.nan), mean_pressure=0.1),
+     ["heights", "NaN"]),
+    ("heights inf", lambda: solve_contact(OP, with_bad(np.inf), mean_pressure=0.1),
+     ["heights", "inf"]),
+    ("two controls", lambda: solve_contact(OP, H, mean_pressure=0.1, penetration=0.1),
+     ["mean_pressure", "penetration", "exactly one"]),
+    ("load < 0", lambda: solve_contact(OP, H, mean_pressure=-0.1),
+     ["mean_pressure = -0.1", "(0, inf)"]),
+    ("load nan", lambda: solve_contact(OP, H, mean_pressure=np.nan),
+     ["mean_pressure = nan", "(0, inf)"]),
+    ("penetration nan", lambda: solve_contact(OP, H, penetration=np.nan),
+     ["penetration = nan", "finite"]),
+    ("a0 < cell", lambda: solve_adhesive(OP, H, 0.1, 0.01, mean_pressure=0.1),
+     ["a0 = 0.01", "[0.0625, 0.5]"]),
+    ("a0 > cell/2", lambda: solve_adhesive(OP, H, 0.1, 0.9, mean_pressure=0.1),
+     ["a0 = 0.9", "[0.0625, 0.5]"]),
+    ("dgamma < 0", lambda: solve_adhesive(OP, H, -0.1, 0.1, mean_pressure=0.1),
+     ["dgamma", "-0.1", ">= 0"]),
+    ("dgamma nan", lambda: solve_adhesive(OP, H, np.nan, 0.1, mean_pressure=0.1),
+     ["dgamma", "nan", "finite"]),
+    ("dgamma map", lambda: solve_adhesive(OP, H, np.ones((4, 4)), 0.1, mean_pressure=0.1),
+     ["dgamma map", "(4, 4)", "(16, 16)"]),
+    ("adhesive heights", lambda: solve_adhesive(OP, with_bad(np.nan), 0.1, 0.1,
+                                                mean_pressure=0.1), ["heights", "non-finite"]),
+    ("adhesive load inf", lambda: solve_adhesive(OP, H, 0.1, 0.1, mean_pressure=np.inf),
+     ["mean_pressure = inf", "finite"]),
+    ("1D zeta<0", lambda: sinusoid1d.solve(-1.0, 10, 0.01, p_tilde=0.1, a0_tilde=0.01),
+     ["zeta = -1.0", "[0.0, inf]"]),
+    ("1D beta<1", lambda: sinusoid1d.solve(1.0, 0.5, 0.01, p_tilde=0.1, a0_tilde=0.01),
+     ["beta = 0.5", "[1.0, 1"]),
+    ("1D a0<0", lambda: sinusoid1d.solve(1.0, 10, 0.01, p_tilde=0.1, a0_tilde=-0.01),
+     ["a0_tilde = -0.01", "[0.0, 1.0]"]),
+    ("1D Gamma nan", lambda: sinusoid1d.solve(1.0, 10, np.nan, p_tilde=0.1, a0_tilde=0.01),
+     ["Gamma = nan", "[0.0, 10.0]"]),
+    ("1D p inf", lambda: sinusoid1d.solve(1.0, 10, 0.01, p_tilde=np.inf, a0_tilde=0.01),
+     ["p_tilde = inf", "finite"]),
+    ("1D no control", lambda: sinusoid1d.solve(1.0, 10, 0.01, a0_tilde=0.01),
+     ["p_tilde", "delta_tilde", "exactly one"]),
+    ("2D a0 < cell", lambda: Scene.sinusoid(0.1, 10, 0.008, p_tilde=0.1, a0_tilde=1e-4,
+                                            cells_per_wavelength=512),
+     ["sinusoid.a0_tilde", "smaller than one cell", "[0.01227, 1]"]),
+    ("hurst 1.5", lambda: self_affine(CELL, 1.5, rolloff=10, cutoff=40, rms_slope=0.1),
+     ["hurst = 1.5", "(0, 1)"]),
+    ("cutoff<rolloff", lambda: self_affine(CELL, 0.8, rolloff=40, cutoff=10, rms_slope=0.1),
+     ["cutoff = 10", "rolloff = 40"]),
+    ("amplitude<0", lambda: sinusoid(CELL, -1.0), ["amplitude = -1.0", "> 0"]),
+    ("radius 0", lambda: paraboloid(CELL, 0.0), ["radius = 0.0", "> 0"]),
+    ("threads 0", lambda: fft.set_threads(0), ["threads = 0", ">= 1"]),
+    ("height file", lambda: read_heights("/nonexistent/h.npy"),
+     ["/nonexistent/h.npy", "does not exist"]),
+]
+
+
+@pytest.mark.parametrize("name, call, words", API, ids=[a[0] for a in API])
+def test_api_bad_input(name, call, words):
+    with pytest.raises((ValueError, OSError)) as err:
+        call()
+    msg = str(err.value)
+    for w in words:
+        assert w in msg, (w, msg)
+
+
+def test_unwritable_output():
+    """/proc refuses new files even for root (a chmod-ed folder would not stop root)."""
+    import xarray as xr
+
+    with pytest.raises(OSError, match=r"'/proc/x.nc'.*not writable"):
+        write_dataset(xr.Dataset({"a": ((), 1.0)}), "/proc/x.nc")
+
+
+CASE = "cases/seed_sinusoid_1d.toml"
+CLI = [
+    (["run", CASE, "-o", "{tmp}/x.nc", "--set", "sinusoid.zeta=-2"],
+     ["sinusoid.zeta", "-2.0", "[0, 1e+12]"]),
+    (["run", CASE, "-o", "{tmp}/x.nc", "--set", "sinusoid.speed=1"],
+     ["sinusoid.speed", "unknown key"]),
+    (["run", CASE, "-o", "{tmp}/x.nc", "--set", "zeta=1"], ["zeta", "section.key"]),
+    (["run", "{tmp}/bad.toml", "-o", "{tmp}/x.nc"], ["bad.toml", "not valid TOML"]),
+    (["run", CASE, "-o", "{tmp}/missing/x.nc"], ["output folder", "does not exist"]),
+    (["sweep", CASE, "--over", "zeta=1:2", "-o", "{tmp}/s.nc"], ["--over", "START:STOP:NUM"]),
+    (["sweep", CASE, "--over", "speed=1,2", "-o", "{tmp}/s.nc"],
+     ["speed", "not a key of this scene"]),
+    (["sweep", CASE, "--over", "zeta=-1,1", "-o", "{tmp}/s.nc"],
+     ["point 0", "sinusoid.zeta", "-1.0"]),
+    (["plot", "{tmp}/none.nc"], ["none.nc", "does not exist"]),
+]
+
+
+@pytest.mark.parametrize("argv, words", CLI, ids=[" ".join(c[0][:2] + c[0][-2:]) for c in CLI])
+def test_cli_bad_input(argv, words, tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(__import__("pathlib").Path(__file__).resolve().parent.parent)
+    (tmp_path / "bad.toml").write_text("[sinusoid\nzeta = 1")
+    args = [a.replace("{tmp}", str(tmp_path)) for a in argv]
+    assert cli.main(args) == 1
+    err = capsys.readouterr().err
+    assert err.startswith(f"spectralbem {argv[0]}: error:")
+    for w in words:
+        assert w in err, (w, err)
+
+
+def test_catalogue_size():
+    from tests.test_scenes import MALFORMED
+
+    assert len(API) + len(CLI) + len(MALFORMED) >= 40 + 20

@@ -205,14 +205,18 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
         own_i = b.inner_owner.ravel()
         R = (own_i >= 0) & col_flat[np.maximum(own_i, 0)]
         R = R.reshape(mask.shape)
-        if R.any() and (mask & ~R).any():
-            res = solve_masked(op, mask & ~R, w, x0=p, rtol=rtol)
-            solves += 1
-            ok &= res.converged
-            if not res.converged:
-                msg = res.message
-            pr = res.field
-            ur = op.apply(pr)
+        if R.any():
+            if (mask & ~R).any():
+                res = solve_masked(op, mask & ~R, w, x0=p, rtol=rtol)
+                solves += 1
+                ok &= res.converged
+                if not res.converged:
+                    msg = res.message
+                pr = res.field
+                ur = op.apply(pr)
+            else:  # the band is the whole contact: opening it detaches (no stress left)
+                pr = np.zeros_like(p)
+                ur = np.zeros_like(u)
             gr = ur - w
             dL = np.where(R, 0.5 * gr * (-p) * area, 0.0)
             dU = 0.5 * area * (np.sum(p * u) - np.sum(pr * ur))

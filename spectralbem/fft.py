@@ -8,6 +8,11 @@ its kernel, so one operator application is exactly one forward and one inverse t
 
 Configuration: ``set_threads(n)`` (default 1), environment variable ``SPECTRALBEM_FFT=numpy``
 to force the fallback, ``backend()`` tells which is in use.
+
+Reproducibility: a run is bit-identical to another with the same plan.  FFTW_MEASURE (the
+default, fastest) picks its algorithm by timing, so two processes may, rarely, get plans that
+differ in the last bit; ``SPECTRALBEM_FFTW_PLANNER=estimate`` makes the plan choice
+deterministic (bit-identical results across processes and runs, slightly slower transforms).
 """
 
 from __future__ import annotations
@@ -26,6 +31,17 @@ except ImportError:  # pragma: no cover
     _HAVE_PYFFTW = False
 
 _THREADS = 1
+_PLANNERS = {"measure": "FFTW_MEASURE", "estimate": "FFTW_ESTIMATE", "patient": "FFTW_PATIENT"}
+
+
+def planner() -> str:
+    """The FFTW planner flag from ``SPECTRALBEM_FFTW_PLANNER`` (default 'measure')."""
+    name = os.environ.get("SPECTRALBEM_FFTW_PLANNER", "measure").lower()
+    if name not in _PLANNERS:
+        raise ValueError(f"SPECTRALBEM_FFTW_PLANNER = {name!r} is not one of "
+                         f"{', '.join(_PLANNERS)}")
+    return _PLANNERS[name]
+
 _PLANS: dict = {}
 _LOCK = threading.Lock()
 
@@ -61,7 +77,7 @@ class RealFFT2:
         self.threads = threads
         self.use_fftw = use_fftw
         if use_fftw:
-            flags = ("FFTW_MEASURE", "FFTW_DESTROY_INPUT")
+            flags = (planner(), "FFTW_DESTROY_INPUT")
             self._rin = pyfftw.empty_aligned(self.shape, dtype="float64")
             self._cout = pyfftw.empty_aligned(self.hshape, dtype="complex128")
             self._cin = pyfftw.empty_aligned(self.hshape, dtype="complex128")
@@ -107,7 +123,7 @@ def plan(shape, threads: int | None = None) -> RealFFT2:
     Plans are per thread of the caller too, because their buffers are not shareable.
     """
     threads = _THREADS if threads is None else int(threads)
-    key = (tuple(shape), threads, _HAVE_PYFFTW, threading.get_ident())
+    key = (tuple(shape), threads, _HAVE_PYFFTW, threading.get_ident(), planner())
     with _LOCK:
         p = _PLANS.get(key)
         if p is None:

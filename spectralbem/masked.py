@@ -132,11 +132,14 @@ def solve_masked(op: SpectralOperator, mask: np.ndarray, rhs: np.ndarray, *, x0=
             if used == "cg":
                 x, info = cg(A, b, x0=x, rtol=rtol, atol=0.0, maxiter=budget, M=M)
             elif used == "bicgstab":
-                x, info = bicgstab(A, b, x0=x, rtol=rtol, atol=0.0, maxiter=max(1, budget // 2),
+                # two matvecs per iteration; at most half the budget, so that the GMRES
+                # fallback (stagnation, breakdown) keeps the other half
+                x, info = bicgstab(A, b, x0=x, rtol=rtol, atol=0.0, maxiter=max(1, budget // 4),
                                    M=M)
             else:
-                x, info = gmres(A, b, x0=x, rtol=rtol, atol=0.0, restart=restart,
-                                maxiter=max(1, budget // restart), M=M)
+                rs = max(1, min(restart, budget))  # never overshoot the guard
+                x, info = gmres(A, b, x0=x, rtol=rtol, atol=0.0, restart=rs,
+                                maxiter=max(1, budget // rs), M=M)
         if not np.all(np.isfinite(x)):
             x = np.zeros(n)
             message = f"{used} produced non-finite values"

@@ -698,6 +698,7 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
         model=scene.model, spectralbem_version=__version__,
         created_utc=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
         fft_backend=fft.backend(), fft_threads=int(scene.solver["threads"]),
+        fft_planner=fft.planner() if fft.backend() == "pyfftw" else "numpy",
         scene=json.dumps(scene.spec, sort_keys=True, default=str),
         conventions="spectralbem.conventions: SI units; u into the slab, p compressive "
                     "positive; seed Fourier convention (Im E < 0 for ω > 0)")

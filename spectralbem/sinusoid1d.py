@@ -665,7 +665,30 @@ def _status(pr: Sinusoid1D, st: State) -> str:
             return "full_contact"
     if span < 1e-3 * pr.lam or (max(res) > 1e-3 and span < 0.1 * pr.lam):
         return "detached"
+    control, value = st.info.get("control", (None, None))
+    if control == "p_mean" and pr.dgamma > 0 and value < 0 and _beyond_pulloff(pr, value):
+        return "detached"
     return "not_converged"
+
+
+def _beyond_pulloff(pr: Sinusoid1D, p_mean: float) -> bool:
+    """True when the tensile load exceeds what the equilibrium branch can carry: the branch
+    load p(a) (contact size a prescribed, :func:`branch_point`) stays above ``p_mean`` over
+    the whole branch (sampled, then the minimum refined by a bounded search)."""
+    from scipy.optimize import minimize_scalar
+
+    def load(a):
+        st = branch_point(pr, a)
+        return st.p_mean if st.info["converged"] else np.inf
+
+    grid = np.geomspace(0.01, 0.8 * pr.lam / 2, 10)
+    vals = np.array([load(a) for a in grid])
+    if not np.isfinite(vals).any():
+        return False
+    i = int(np.argmin(vals))
+    lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
+    r = minimize_scalar(load, bounds=(lo, hi), method="bounded", options={"xatol": 1e-6})
+    return min(vals[i], r.fun) > p_mean
 
 
 def _summary(pr: Sinusoid1D, st: State) -> dict:

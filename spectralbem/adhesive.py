@@ -46,6 +46,20 @@ class AdhesiveResult:
     message: str
     history: list = field(default_factory=list)
     a0_effective: float = 0.0  # m h, the band width used
+    unresolved_patches: int = 0  # contact patches smaller than a disc of radius a0
+
+
+def unresolved_patches(mask: np.ndarray, a0_cells: float) -> int:
+    """Number of contact patches (4-connected, periodic images not merged) with fewer cells
+    than a disc of radius a0: their fronts are closer than a0 to each other, so the band
+    tests cannot resolve them (reported, not hidden)."""
+    from scipy import ndimage
+
+    lab, n = ndimage.label(mask)
+    if n == 0:
+        return 0
+    sizes = np.bincount(lab.ravel())[1:]
+    return int(np.sum(sizes < np.pi * a0_cells**2))
 
 
 def _neighbour_mean(field_: np.ndarray, where: np.ndarray) -> np.ndarray:
@@ -97,6 +111,9 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     p = np.zeros(cell.shape)
     p1 = None
     seen = {}
+    states = {}
+    last_removed = np.zeros(cell.shape, bool)
+    pinned = np.zeros(cell.shape, bool)  # opened, then closed at once by non-penetration
     solves = 0
     history = []
     status, message, converged = "not_converged", "", False
@@ -132,6 +149,9 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
         g = u - w
         pen = ~mask & (g < -1e-12 * max(1.0, float(np.abs(w).max())))
         if pen.any():  # contact nucleation (JKR jump-in)
+            # a cell the criterion just opened that interpenetrates at the new Δ (load
+            # control) cannot open: it stays closed (pinned) for the rest of this solve
+            pinned |= pen & last_removed
             mask |= pen
             continue
         tests = front_tests(op, w, mask, p, dgamma, a0, rtol=rtol, vhat=vhat,
@@ -153,7 +173,11 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
         si = np.where(b.inner_owner >= 0, s_in.ravel()[np.maximum(b.inner_owner, 0)], np.nan)
         slack = (1.0 - DEAD_BAND) * hmin
         add = b.outer_band & (so > b.outer_dist - slack)
-        remove = b.inner_band & (si < -(b.inner_dist - slack))
+        # a cell opens only where its opening leaves a gap (no interpenetration): otherwise
+        # the nucleation step would close it again at once (an open/close cycle)
+        gtol = 1e-12 * max(1.0, float(np.abs(w).max()))
+        remove = (b.inner_band & (si < -(b.inner_dist - slack)) & ~(tests.g_open < -gtol)
+                  & ~pinned)
         history.append((it, int(mask.sum()), int(add.sum()), int(remove.sum()), float(delta)))
         if not add.any() and not remove.any():
             converged, status, message = True, "partial", "converged"
@@ -162,20 +186,39 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
         if key in seen:
             # a lattice cycle: accept when the balanced front lies within one cell of the
             # mask boundary at (nearly) every front cell — the outputs use the sub-cell front
+            # — or when the cells that flip along the cycle are a small part of the front
             fronts = np.concatenate([s_out[outer], s_in[inner]])
             within = float(np.mean(np.abs(fronts) <= hmin))
-            if within >= CYCLE_ACCEPT:
+            flips = np.zeros(cell.shape, bool)
+            for k in range(seen[key], it):
+                if k in states:
+                    flips |= states[k] ^ mask
+            flip_frac = flips.sum() / max(1, int(outer.sum() + inner.sum()))
+            period = it - seen[key]
+            if within >= CYCLE_ACCEPT or flip_frac <= 1.0 - CYCLE_ACCEPT:
                 converged, status = True, "partial"
-                message = (f"lattice cycle of period {it - seen[key]} accepted: "
-                           f"{100 * within:.1f} % of front cells within one cell of balance")
+                message = (f"lattice cycle of period {period} accepted: {100 * within:.1f} % "
+                           f"of front cells within one cell of balance, {int(flips.sum())} "
+                           f"cells ({100 * flip_frac:.1f} % of the front) flip")
             else:
                 status = "not_converged"
-                message = (f"the mask cycles between states ({100 * within:.1f} % of front "
-                           "cells within one cell of balance)")
+                message = (f"the mask cycles between states (period {period}; "
+                           f"{100 * within:.1f} % of front cells within one cell of balance, "
+                           f"{100 * flip_frac:.1f} % of the front flips)")
             break
         seen[key] = it
+        states[it] = mask.copy()
+        states.pop(it - 12, None)  # cycles longer than a dozen states are not accepted
+        seen = {k_: v for k_, v in seen.items() if v > it - 12}
+        if it == max_outer:  # keep the state (mask, p, tests) consistent: no last move
+            message = f"not converged in {max_outer} outer iterations"
+            break
         mask = (mask | add) & ~remove
-    else:
+        last_removed = remove
+    else:  # the guard ran out on a nucleation step
         message = f"not converged in {max_outer} outer iterations"
+    nun = unresolved_patches(mask, a0 / hmin)
+    if nun:
+        message += f"; {nun} contact patches smaller than a disc of radius a0 (unresolved)"
     return AdhesiveResult(p, mask, float(delta), float(p.mean()), tests, s_out, it, solves,
-                          converged, status, message, history, a0)
+                          converged, status, message, history, a0, nun)

@@ -121,6 +121,7 @@ class FrontTest:
     F_open: np.ndarray  # on inner front cells
     G_close: np.ndarray  # conservative release rate (δL - δL_P)/δA per outer front cell (J/m²)
     dLP_cells: np.ndarray  # δL_P attributed to each closing-band cell (adjoint), J
+    g_open: np.ndarray  # gap of each opened band cell in its opening-test state (nan elsewhere)
     closing: dict  # colour -> (δL, δU, δL_P, band area, observables) of the closing layer
     opening: dict  # colour -> (δL, δU, δL_P, band area, observables) of the opening layer
     colour_map: list  # colour -> bool array of the front cells it contains
@@ -163,6 +164,9 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     g = u - w
     F_close = np.full(mask.shape, np.nan)
     F_open = np.full(mask.shape, np.nan)
+    g_open = np.full(mask.shape, np.nan)
+    W_close = np.zeros(mask.shape)  # Δγ·area of each owner's band (weights along the front)
+    W_open = np.zeros(mask.shape)
     G_close = np.full(mask.shape, np.nan)
     dLP_cells = np.zeros(mask.shape)
     closing, opening = {}, {}
@@ -195,6 +199,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             den = _aggregate((dg * area).ravel(), np.where(D.ravel(), own, -1), n)
             has = den > 0
             F_close.ravel()[has] = num[has] / den[has] - 1.0
+            W_close.ravel()[has] = den[has]
             # per-cell δL_P from the adjoint weights (criterion.md §4.6); zero when elastic
             dLPj = np.where(D, area * pp * psi, 0.0) if psi is not None else np.zeros(D.shape)
             dLP_cells += dLPj
@@ -218,6 +223,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
                 pr = np.zeros_like(p)
                 ur = np.zeros_like(u)
             gr = ur - w
+            g_open[R] = gr[R]
             dL = np.where(R, 0.5 * gr * (-p) * area, 0.0)
             dU = 0.5 * area * (np.sum(p * u) - np.sum(pr * ur))
             dLP = 0.5 * area * (np.sum(u * pr) - np.sum(ur * p))
@@ -227,10 +233,14 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             den = _aggregate((dg * area).ravel(), np.where(R.ravel(), own_i, -1), n)
             has = den > 0
             F_open.ravel()[has] = num[has] / den[has] - 1.0
-    F_close = smooth_along_front(F_close, b.outer_front, front_smoothing)
-    F_open = smooth_along_front(F_open, b.inner_front, front_smoothing)
+            W_open.ravel()[has] = den[has]
+    # ratio of sums along the front: each front cell weighs by its band's Δγ·area, so that
+    # owners of unequal band patches (staircase corners) do not bias the local balance
+    F_close = smooth_along_front(F_close, b.outer_front, front_smoothing, W_close)
+    F_open = smooth_along_front(F_open, b.inner_front, front_smoothing, W_open)
     solves += psi is not None
-    return FrontTest(F_close, F_open, G_close, dLP_cells, closing, opening, cols, b, solves,
+    return FrontTest(F_close, F_open, G_close, dLP_cells, g_open, closing, opening, cols, b,
+                     solves,
                      bool(ok), msg)
 
 
@@ -246,7 +256,8 @@ def adjoint_weights(op: SpectralOperator, mask: np.ndarray, p: np.ndarray,
     return r - op.apply_transpose(res.field)
 
 
-def smooth_along_front(F: np.ndarray, front: np.ndarray, sigma: float) -> np.ndarray:
+def smooth_along_front(F: np.ndarray, front: np.ndarray, sigma: float,
+                       weights: np.ndarray | None = None) -> np.ndarray:
     """Gaussian average of F over the front cells only (σ in cells).
 
     On a pixelated curved front the per-cell layer work scatters by ±30 % around the local
@@ -257,8 +268,9 @@ def smooth_along_front(F: np.ndarray, front: np.ndarray, sigma: float) -> np.nda
     if sigma <= 0:
         return F
     ok = front & np.isfinite(F)
-    num = ndimage.gaussian_filter(np.where(ok, F, 0.0), sigma, mode="wrap")
-    den = ndimage.gaussian_filter(ok.astype(float), sigma, mode="wrap")
+    wt = np.where(ok, 1.0 if weights is None else weights, 0.0)
+    num = ndimage.gaussian_filter(np.where(ok, F, 0.0) * wt, sigma, mode="wrap")
+    den = ndimage.gaussian_filter(wt, sigma, mode="wrap")
     out = np.full(F.shape, np.nan)
     sel = ok & (den > 0)
     out[sel] = num[sel] / den[sel]

@@ -469,6 +469,8 @@ SCALARS = {  # name: (units, long name)
     "eccentricity": ("m", "contact eccentricity e (> 0: toward the leading edge)"),
     "iterations": ("1", "solver iterations (adhesive: outer front iterations)"),
     "solves": ("1", "masked linear solves"),
+    "unresolved_patches": ("1", "contact patches smaller than a disc of radius a0 (the band "
+                                "tests cannot resolve them)"),
 }
 FIELDS = {
     "heights": ("m", "rigid profile height toward the slab"),
@@ -537,15 +539,19 @@ def _solve_grid(scene: Scene, mask0=None):
     sc = {}
     fields = {"heights": h}
     if scene.adhesive:
-        if mask0 is None:  # start from the adhesiveless contact (not from one summit cell)
-            mask0 = _adhesiveless_mask(op, scene)
+        # start from the adhesiveless contact (not from one summit cell); along a path,
+        # from the carried mask joined with it (loading: no overshoot of the nucleation at
+        # the new load's Δ; unloading: the adhesiveless contact is inside the carried one)
+        m_free = _adhesiveless_mask(op, scene)
+        mask0 = m_free if mask0 is None else (mask0 | m_free if m_free is not None else mask0)
         r = solve_adhesive(op, h, scene.dgamma, scene.a0, penetration=scene.delta,
                            mean_pressure=scene.p_mean, mask0=mask0, rtol=tol,
                            max_outer=scene.solver["max_outer"])
         p, mask, delta, status = r.pressure, r.mask, r.penetration, r.status
         u = op.apply(p)
         msg = r.message
-        sc.update(iterations=r.outer_iterations, solves=r.solves)
+        sc.update(iterations=r.outer_iterations, solves=r.solves,
+                  unresolved_patches=r.unresolved_patches)
         if status == "partial" and r.tests is not None:
             G1, G2, fa, gmap = _front_release(op, r, scene.dgamma)
             W = float(p.sum()) * cell.cell_area
@@ -680,6 +686,10 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
         ds = out[0]
     else:
         name = scene.control[0]
+        for d in out:  # per-step solver messages survive the concatenation as a variable
+            msg = d.attrs.get("solver_message", d.attrs.get("message", ""))
+            d["solver_message"] = ((), str(msg), {"units": "1",
+                                                  "long_name": "solver message of the step"})
         ds = xr.concat(out, dim="step", combine_attrs="drop_conflicts", data_vars="all")
         vals = np.asarray(scene.control[1], float)
         if scene.kind == "sinusoid" and name == "mean_pressure":

@@ -139,14 +139,21 @@ def plot_contact(ds, path=None):
         G = ds["G_front"].values
         ok = np.isfinite(G)
         X, Y = np.meshgrid(x, y, indexing="ij")
-        sc = ax.scatter(X[ok], Y[ok], c=G[ok], s=4, cmap="coolwarm", marker="s")
+        lo, hi = np.percentile(G[ok], [5, 95]) if ok.any() else (0.0, 2.0)
+        lo, hi = min(lo, 1.0), max(hi, 1.0)  # keep G = Δγ (balance) inside the scale
+        sc = ax.scatter(X[ok], Y[ok], c=np.clip(G[ok], lo, hi), s=4, cmap="coolwarm",
+                        marker="s", vmin=lo, vmax=hi)
         fig.colorbar(sc, ax=ax, label="local G/Δγ on the front")
     frac = float(ds["contact"].values.mean())
     ax.set_title(f"contact (area fraction {frac:.3f})")
     ax.set_xlabel(f"x ({unit})")
     ax.set_ylabel(f"y ({unit})")
     ax = axes[1]
-    im = ax.imshow(p.T * pu, origin="lower", extent=ext, cmap="magma", aspect="auto")
+    # robust colour scale: isolated tensile spikes at front corners would hide the field
+    pv = p[p != 0] * pu if np.any(p != 0) else np.zeros(1)
+    vlo, vhi = np.percentile(pv, [1, 99])
+    im = ax.imshow(p.T * pu, origin="lower", extent=ext, cmap="magma", aspect="auto",
+                   vmin=min(vlo, 0.0), vmax=vhi)
     fig.colorbar(im, ax=ax, label=pl)
     mu = float(ds["mu_bar"] if seed else ds["mu"])
     ax.set_title(f"pressure, {'μ/Λ̃' if seed else 'μ'} = {mu:.4g}")

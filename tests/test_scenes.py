@@ -216,7 +216,7 @@ REDUCED = {
     "jkr_sphere": {"grid.Nx": 128, "grid.Ny": 128, "adhesion.a0": 1.5625e-5,
                    "control.mean_pressure": [1e3, 0.0]},
     "rough_load_unload": {"grid.Nx": 64, "grid.Ny": 64, "adhesion.a0": 3.125e-5,
-                          "control.mean_pressure": [1e4, 3e3], "solver.max_outer": 10},
+                          "control.mean_pressure": [1e4, 3e4, 1e4]},
     "sinusoid_physical": {},
 }
 
@@ -234,8 +234,10 @@ def test_every_case_runs(name):
         if v.dtype.kind == "f" and v.dims == ():
             assert not np.isinf(v.values)
     assert ds.attrs["model"] in ("grid2d", "sinusoid1d")
-    if name not in ("rough_load_unload",):  # a 32² adhesive rough cell with 10 outer iterations
-        assert status[0] in ("partial", "full_contact"), (name, status)
+    assert all(s in ("partial", "full_contact") for s in status), (name, status)
+    if name == "rough_load_unload":  # adhesion hysteresis: unloading keeps more contact
+        af = ds.area_fraction.values
+        assert af[2] > af[0], af
 
 
 def test_user_guide_reference_is_current():

@@ -117,3 +117,15 @@ def test_sweep_rejects_bad_points_before_solving(tmp_path):
     with pytest.raises(SceneError, match=r"point 1 .*sinusoid.zeta"):
         run_sweep(CASE, [("zeta", [0.1, -1.0])], tmp_path / "b.nc", progress=False)
     assert not (tmp_path / "b.nc.parts").exists()
+
+
+def test_sweep_on_an_existing_scheduler(tmp_path, ref6):
+    """--scheduler ADDRESS: the sweep runs on a cluster it did not start (and leaves it up)."""
+    from dask.distributed import LocalCluster
+
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                      dashboard_address=None) as cluster:
+        out = run_sweep(CASE, [("zeta", ZETAS[4:])], tmp_path / "e.nc",
+                        scheduler=cluster.scheduler_address, progress=False)
+        assert len(cluster.scheduler.workers) == 1  # still up
+    assert_matches(read_dataset(out), ref6[4:])

@@ -165,6 +165,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     F_close = np.full(mask.shape, np.nan)
     F_open = np.full(mask.shape, np.nan)
     g_open = np.full(mask.shape, np.nan)
+    force_close = np.zeros(mask.shape, bool)
     W_close = np.zeros(mask.shape)  # Δγ·area of each owner's band (weights along the front)
     W_open = np.zeros(mask.shape)
     G_close = np.full(mask.shape, np.nan)
@@ -181,7 +182,12 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
         own = b.outer_owner.ravel()
         D = (own >= 0) & col_flat[np.maximum(own, 0)]
         D = D.reshape(mask.shape)
-        if D.any():
+        if D.any() and (mask | D).all():
+            # the band is the whole remaining gap: closing it is full contact, where the
+            # half-space gauge leaves no solution at an arbitrary Δ; a gap narrower than the
+            # band closes (the outer loop then reports full_contact)
+            force_close.ravel()[np.unique(own[D.ravel()])] = True
+        elif D.any():
             res = solve_masked(op, mask | D, w, x0=p, rtol=rtol)
             solves += 1
             ok &= res.converged
@@ -237,6 +243,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     # ratio of sums along the front: each front cell weighs by its band's Δγ·area, so that
     # owners of unequal band patches (staircase corners) do not bias the local balance
     F_close = smooth_along_front(F_close, b.outer_front, front_smoothing, W_close)
+    F_close[force_close] = -np.inf
     F_open = smooth_along_front(F_open, b.inner_front, front_smoothing, W_open)
     solves += psi is not None
     return FrontTest(F_close, F_open, G_close, dLP_cells, g_open, closing, opening, cols, b,
@@ -289,7 +296,7 @@ def sub_cell_offset(F_close, F_open, a0: float):
     slope = Fc - Fo
     with np.errstate(divide="ignore", invalid="ignore"):
         s = np.where(slope > 0, -a0 * Fc / slope, np.nan)
-    unstable = ~(slope > 0) & np.isfinite(slope)
+    unstable = ~(slope > 0) & ~np.isnan(slope)  # -inf: a forced closing (whole gap)
     s = np.where(unstable & (Fc < 0), np.inf, s)
     s = np.where(unstable & (Fc >= 0) & (Fo > 0), -np.inf, s)
     s = np.where(unstable & (Fc >= 0) & (Fo <= 0), 0.0, s)

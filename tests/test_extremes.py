@@ -203,3 +203,15 @@ def test_bit_identical_across_processes():
         assert o.returncode == 0, o.stderr
     assert outs[0].stdout == outs[1].stdout
     assert "FFTW_ESTIMATE" in outs[0].stdout or "numpy" in outs[0].stdout
+
+
+def test_snap_in_to_full_contact_2d():
+    """Elastic sinusoid on the grid with Γ = 1 (far beyond Johnson's spontaneous jump-in):
+    the solver reports full_contact instead of creeping.  From the initial contact ã = 1 each
+    edge has (π - 1)/(2π)·256 ≈ 87 cells to close, at most m = 4 layers per outer iteration:
+    22 iterations, so at most 30."""
+    assert not np.isfinite(ref.johnson_a(0.1, 1.0)) or ref.johnson_a(0.1, 1.0) > 3.0
+    ds = sb.solve(sb.Scene.sinusoid(0.0, 1.0, 1.0, p_tilde=0.1, a0_tilde=4 * H,
+                                    cells_per_wavelength=N, ny=1))
+    assert ds.status.item() == "full_contact"
+    assert ds.attrs["outer_iterations"] <= 30

@@ -21,6 +21,7 @@ demo: $(STAMP)
 	mkdir -p demo_out
 	$(BIN)/spectralbem run cases/rubber_rough.toml -o demo_out/demo.nc
 	MPLBACKEND=Agg $(BIN)/spectralbem plot demo_out/demo.nc -o demo_out/demo.png
+	@echo "next: $(BIN)/spectralbem run cases/<scene>.toml -o x.nc && $(BIN)/spectralbem plot x.nc"
 
 test: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python -m pytest -n $(JOBS) -q

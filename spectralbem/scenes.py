@@ -65,7 +65,8 @@ class Scene:
     model: str = "grid2d"
     spec: dict = field(default_factory=dict)  # the normalised scene mapping (for the dataset)
     solver: dict = field(default_factory=lambda: {"tol": 1e-10, "max_iterations": 10000,
-                                                  "max_outer": 500, "threads": 1})
+                                                  "max_outer": 500, "threads": 1,
+                                                  "front_smoothing": 3.0})
     fields: bool = True
     control: tuple = ()
 
@@ -379,7 +380,8 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
                "lateral": -cell.derivative(h, vperp)}
         r = solve_adhesive(op, h, scene.dgamma, scene.a0, penetration=scene.delta,
                            mean_pressure=scene.p_mean, mask0=mask0, rtol=rtol,
-                           observables=obs, max_outer=scene.solver["max_outer"])
+                           observables=obs, max_outer=scene.solver["max_outer"],
+                           front_smoothing=scene.solver.get("front_smoothing", 3.0))
         p, mask, delta, status = r.pressure, r.mask, r.penetration, r.status
         a0e = r.a0_effective
         u = op.apply(p)
@@ -546,7 +548,8 @@ def _solve_grid(scene: Scene, mask0=None):
         mask0 = m_free if mask0 is None else (mask0 | m_free if m_free is not None else mask0)
         r = solve_adhesive(op, h, scene.dgamma, scene.a0, penetration=scene.delta,
                            mean_pressure=scene.p_mean, mask0=mask0, rtol=tol,
-                           max_outer=scene.solver["max_outer"])
+                           max_outer=scene.solver["max_outer"],
+                           front_smoothing=scene.solver.get("front_smoothing", 3.0))
         p, mask, delta, status = r.pressure, r.mask, r.penetration, r.status
         u = op.apply(p)
         msg = r.message

@@ -82,34 +82,69 @@ def main(argv=None):
                          "(see docs/validation.md)")
 
 
-def jkr_sphere(n: int = 256):
-    """Elastic JKR sphere in a periodic cell (exploratory): contact radius against JKR at two
-    loads, approached from a smaller (loading) and a larger (unloading) contact."""
-    from . import reference as ref
-    from .adhesive import solve_adhesive
+#: front smoothing for the JKR disc: at 72-90 cells per radius σ = 3 cycles, σ = 6 converges
+JKR_SIGMA = 6.0
+
+
+def jkr_cell(n: int):
+    """The JKR validation scene: elastic paraboloid R = L = E* = 1 (ν = 0), Δγ = 2e-4."""
     from .materials import Elastic
     from .spectral import Cell, SpectralOperator
     from .surfaces import paraboloid
 
     cell = Cell(1.0, 1.0, n, n)
-    op = SpectralOperator(cell, Elastic(1.0, 0.0))
-    h = paraboloid(cell, 1.0)
     X, Y = cell.coordinates()
     r = np.hypot(X - cell.Nx // 2 * cell.hx, Y - cell.Ny // 2 * cell.hy)
-    w = 2e-4
+    return cell, SpectralOperator(cell, Elastic(1.0, 0.0)), paraboloid(cell, 1.0), r, 2e-4
+
+
+def griffith_radius(res, cell) -> float:
+    """Equivalent radius of a disc-shaped contact at the Griffith edge: the mask radius, plus
+    the mean sub-cell offset l* of the outer front, plus a0/2 (the closing strip's work is a0·G
+    at its midpoint, so G = Δγ at l* + a0/2 to second order in a0; docs/theory.md)."""
+    a = np.sqrt(res.mask.sum() * cell.cell_area / np.pi)
+    s = res.offset_out[res.tests.bands.outer_front]
+    s = s[np.isfinite(s)]
+    return float(a + (s.mean() if s.size else 0.0) + res.a0_effective / 2)
+
+
+def jkr_sphere(n: int = 512, sigma: float = JKR_SIGMA):
+    """Elastic JKR sphere in a periodic cell: contact radius against JKR at two loads,
+    approached from a smaller (loading) and a larger (unloading) contact, and the load-control
+    pull-off by bisection (unloading from the zero-load contact)."""
+    from . import reference as ref
+    from .adhesive import solve_adhesive
+
+    cell, op, h, r, w = jkr_cell(n)
     out = []
     for P in (0.0, 2e-3):
         aJ = ref.jkr_radius(P, 1.0, 1.0, w)
         for branch, start in (("loading", 0.9), ("unloading", 1.1)):
             t = time.perf_counter()
-            res = solve_adhesive(op, h, w, cell.hx, mean_pressure=P, mask0=r < start * aJ)
-            a = np.sqrt(res.mask.sum() * cell.cell_area / np.pi)
+            res = solve_adhesive(op, h, w, cell.hx, mean_pressure=P, mask0=r < start * aJ,
+                                 front_smoothing=sigma)
+            a = griffith_radius(res, cell)
             out.append(dict(P=P, branch=branch, a_jkr=aJ, cells=aJ / cell.hx, error=a / aJ - 1,
                             status=res.status, message=res.message,
                             time=time.perf_counter() - t))
             print(f"JKR P={P} {branch}: radius error {a / aJ - 1:+.2e} ({res.status}, "
                   f"{res.message[:60]})", flush=True)
-    return out
+    Pc = ref.jkr_pulloff(1.0, w)
+    mask = r < ref.jkr_radius(0.0, 1.0, 1.0, w)
+    lo, hi = 0.0, 1.2 * Pc
+    t = time.perf_counter()
+    for k in range(7):
+        mid = 0.9 * Pc if k == 0 else 0.5 * (lo + hi)
+        res = solve_adhesive(op, h, w, cell.hx, mean_pressure=mid, mask0=mask,
+                             front_smoothing=sigma)
+        if res.status == "partial":
+            lo, mask = mid, res.mask
+        else:
+            hi = mid
+    pull = dict(lo=lo / Pc, hi=hi / Pc, Pc=Pc, cells=ref.jkr_radius(Pc, 1.0, 1.0, w) / cell.hx,
+                time=time.perf_counter() - t)
+    print(f"JKR pull-off between {lo / Pc:.4f} and {hi / Pc:.4f} of -3πwR/2", flush=True)
+    return out, pull
 
 
 def write_report(rows, oblique, jkr=()):
@@ -172,21 +207,26 @@ Sliding at 40° to the wave vector at ζ = 0.3 equals the 1D problem at ζ cos 4
 against −μ̄₁D sin 40° = {oblique['mu_lateral'][1]:.5f}.
 """
     if jkr:
-        text += """
-## JKR sphere (exploratory, not yet meeting the issue's acceptance)
+        jkr, pull = jkr
+        text += f"""
+## JKR sphere
 
-Elastic paraboloid R = L, Δγ = 2e-4 E* L, 256² cell (36 cells per JKR radius at zero load,
-below the 50 the issue asks), a0 = one cell; the radius from the contact area. Curved fronts
-need the per-cell work averaged along the front (σ = 3 cells); lattice cycles are accepted only
-when 95 % of the front is balanced within one cell. At 512² the mask still cycles (about half
-of the front balanced within a cell) although the radius is within 0.6 % of JKR: the
-closing/opening slope over a one-cell advance shrinks with h while the staircase noise does
-not. Pull-off and full loading/unloading paths are not done yet.
+Elastic paraboloid R = L = E* = 1 (ν = 0), Δγ = 2e-4, 512² cell, a0 = one cell, front
+smoothing σ = {JKR_SIGMA:g} cells (σ = 3 lets the mask cycle at this resolution). The radius is
+the Griffith radius of the sub-cell front (`validate.griffith_radius`: mask radius + mean
+sub-cell offset + a0/2). Acceptance (issue 4): radius within 1 % at ≥ 50 cells per radius, on
+loading and unloading; pull-off within 2 %.
 
 | P | branch | JKR radius (cells) | radius error | status | note | s |
 |---|---|---|---|---|---|---|
 """ + "\n".join(f"| {j['P']} | {j['branch']} | {j['cells']:.1f} | {j['error']:+.2e} | "
-                 f"{j['status']} | {j['message'][:70]} | {j['time']:.0f} |" for j in jkr) + "\n"
+                 f"{j['status']} | {j['message'][:70]} | {j['time']:.0f} |" for j in jkr) + f"""
+
+Load-control pull-off (bisection from the zero-load contact, 7 solves, {pull['time']:.0f} s):
+between {pull['lo']:.4f} and {pull['hi']:.4f} of the JKR value -3πΔγR/2 (the JKR radius at
+pull-off is {pull['cells']:.0f} cells here, below the 50 the acceptance asks: finer grids
+are needed for that part).
+"""
     (ROOT / "docs" / "validation.md").write_text(text)
     return ok
 

@@ -10,6 +10,11 @@ front-layer energy balance of :mod:`spectralbem.criterion`, evaluated at fixed �
    interpolated balanced edge lies beyond half a cell;
 4. repeat until no cell moves.  Hysteresis is physical: the mask is carried from one call to
    the next (``mask0``), there is no global minimisation.
+
+Leaving full contact (nucleation rule): a full contact opens only through a flaw.  When the
+mask covers the cell, a flaw — the disc of radius a0 at the peak tension of the full-contact
+solution — is opened once and the criterion decides: if it closes again the state is
+``full_contact``, if it grows the contact becomes partial.
 """
 
 from __future__ import annotations
@@ -76,6 +81,27 @@ def _neighbour_mean(field_: np.ndarray, where: np.ndarray) -> np.ndarray:
         return np.where(n > 0, s / n, np.nan)
 
 
+def _nucleation_flaw(op, h, mean_pressure, penetration, a0):
+    """The documented rule for leaving full contact: a flaw, the disc of radius a0 centred on
+    the cell of largest tension of the full-contact solution (at the prescribed load; under
+    penetration control of a half-space no full-contact solution exists at an arbitrary Δ).
+    None when the full contact is nowhere tensile (it cannot open) or undefined."""
+    from .contact import _full_contact
+
+    full = _full_contact(op, h, mean_pressure, penetration)
+    if full is None:
+        return None
+    p = full[0]
+    if p.min() >= 0:
+        return None
+    cell = op.cell
+    i, j = np.unravel_index(int(np.argmin(p)), p.shape)
+    X, Y = cell.coordinates()
+    dx = (X - X[i, j] + cell.Lx / 2) % cell.Lx - cell.Lx / 2
+    dy = (Y - Y[i, j] + cell.Ly / 2) % cell.Ly - cell.Ly / 2
+    return np.hypot(dx, dy) <= a0 * (1 + 1e-9)
+
+
 def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float, *,
                    penetration: float | None = None, mean_pressure: float | None = None,
                    mask0: np.ndarray | None = None, max_outer: int = 500,
@@ -116,6 +142,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     seen = {}
     states = {}
     last_removed = np.zeros(cell.shape, bool)
+    flaw_tried = False
     pinned = np.zeros(cell.shape, bool)  # opened, then closed at once by non-penetration
     solves = 0
     history = []
@@ -128,8 +155,16 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
             status, message = "detached", "the contact vanished"
             break
         if mask.all():
-            status, message = "full_contact", "the contact covers the cell"
-            break
+            flaw = None if flaw_tried else _nucleation_flaw(op, h, mean_pressure, penetration,
+                                                            a0)
+            if flaw is None:
+                status, message = "full_contact", "the contact covers the cell"
+                if flaw_tried:
+                    message += " (a flaw of radius a0 nucleated at the peak tension closed)"
+                break
+            flaw_tried = True  # nucleation rule: open it once, let the criterion decide
+            mask = ~flaw
+            continue
         if mean_pressure is not None:
             rw = solve_masked(op, mask, h - hmax, x0=p, rtol=rtol)
             r1 = solve_masked(op, mask, np.ones(cell.shape), x0=p1, rtol=rtol)

@@ -137,7 +137,7 @@ def _client(scheduler, workers):
         return Client(scheduler), None
     n = workers or os.cpu_count() or 1
     cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                           dashboard_address=None, silence_logs=40,
+                           dashboard_address=":0", silence_logs=40,
                            local_directory=tempfile.gettempdir())
     return Client(cluster), cluster
 

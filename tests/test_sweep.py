@@ -124,7 +124,7 @@ def test_sweep_on_an_existing_scheduler(tmp_path, ref6):
     from dask.distributed import LocalCluster
 
     with LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
-                      dashboard_address=None) as cluster:
+                      dashboard_address=":0") as cluster:
         out = run_sweep(CASE, [("zeta", ZETAS[4:])], tmp_path / "e.nc",
                         scheduler=cluster.scheduler_address, progress=False)
         assert len(cluster.scheduler.workers) == 1  # still up

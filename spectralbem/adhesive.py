@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .contact import sliding_direction
-from .criterion import front_cells, front_tests, layers, sub_cell_offset
+from .criterion import FRONT_SMOOTHING, front_cells, front_tests, layers, sub_cell_offset
 from .masked import solve_masked
 from .spectral import SpectralOperator
 from .surfaces import check_heights
@@ -105,14 +105,13 @@ def _nucleation_flaw(op, h, mean_pressure, penetration, a0):
 def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float, *,
                    penetration: float | None = None, mean_pressure: float | None = None,
                    mask0: np.ndarray | None = None, max_outer: int = 500,
-                   front_smoothing: float = 3.0,
+                   front_smoothing: float = FRONT_SMOOTHING,
                    rtol: float = 1e-10, observables: dict | None = None) -> AdhesiveResult:
     """Adhesive equilibrium under penetration or mean-pressure control.
 
     ``dgamma``: work of adhesion Δγ (J/m², scalar or per-cell map); ``a0``: advance width (m),
     at least one cell.  ``front_smoothing``: σ (cells) of the average along the front
-    (criterion.smooth_along_front); fine meshes of smooth fronts need more (measured on a JKR
-    disc at 90 cells per radius: σ = 3 cycles, σ = 6 converges).
+    (criterion.smooth_along_front, default :data:`criterion.FRONT_SMOOTHING`).
     """
     cell = op.cell
     h = check_heights(heights, cell)

@@ -66,7 +66,7 @@ class Scene:
     spec: dict = field(default_factory=dict)  # the normalised scene mapping (for the dataset)
     solver: dict = field(default_factory=lambda: {"tol": 1e-10, "max_iterations": 10000,
                                                   "max_outer": 500, "threads": 1,
-                                                  "front_smoothing": 3.0})
+                                                  "front_smoothing": 6.0})
     fields: bool = True
     control: tuple = ()
 
@@ -381,7 +381,7 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
         r = solve_adhesive(op, h, scene.dgamma, scene.a0, penetration=scene.delta,
                            mean_pressure=scene.p_mean, mask0=mask0, rtol=rtol,
                            observables=obs, max_outer=scene.solver["max_outer"],
-                           front_smoothing=scene.solver.get("front_smoothing", 3.0))
+                           front_smoothing=scene.solver.get("front_smoothing", 6.0))
         p, mask, delta, status = r.pressure, r.mask, r.penetration, r.status
         a0e = r.a0_effective
         u = op.apply(p)
@@ -549,7 +549,7 @@ def _solve_grid(scene: Scene, mask0=None):
         r = solve_adhesive(op, h, scene.dgamma, scene.a0, penetration=scene.delta,
                            mean_pressure=scene.p_mean, mask0=mask0, rtol=tol,
                            max_outer=scene.solver["max_outer"],
-                           front_smoothing=scene.solver.get("front_smoothing", 3.0))
+                           front_smoothing=scene.solver.get("front_smoothing", 6.0))
         p, mask, delta, status = r.pressure, r.mask, r.penetration, r.status
         u = op.apply(p)
         msg = r.message

@@ -110,7 +110,7 @@ SECTIONS = {
         "threads": _k("integer", "FFT threads", "", 1, 256, default=1),
         "front_smoothing": _k("number", "σ of the Gaussian average of the energy balance "
                               "along the front (adhesive scenes; more for fine meshes of "
-                              "smooth fronts)", "cells", 0, 100, default=3.0),
+                              "smooth fronts)", "cells", 0, 100, default=6.0),
     },
     "output": {
         "fields": _k("boolean", "store the 2D fields (pressure, gap, ...) in the dataset",

@@ -1,0 +1,98 @@
+"""Benchmark of issue 4: the 2D adhesive viscoelastic sphere at 512² and one load.
+
+Elastic-unit scene: L = R = E0 = 1 (ν = 0), β = E∞/E0 = 10, τ = 1, sliding speed v = 0.1 a_J
+so that ζ = vτ/a = 0.1 on the JKR zero-load radius a_J = 0.1 L, Δγ chosen for that radius
+(Δγ = a_J³ (4/3)/(6π R²)), a0 = one cell, zero mean pressure.  Reports wall time, outer
+iterations, masked solves per outer iteration and the time split (masked solves, operator
+applications outside them, the rest); writes the table between the markers
+<!-- bench:sphere --> in docs/performance.md.
+
+Usage: python bench/sphere.py [N]
+"""
+
+from __future__ import annotations
+
+import os
+
+for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_v, "1")
+
+import sys  # noqa: E402
+import time  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+import spectralbem.adhesive as ad  # noqa: E402
+import spectralbem.criterion as cr  # noqa: E402
+from spectralbem import reference as ref  # noqa: E402
+from spectralbem.materials import StandardLinearSolid  # noqa: E402
+from spectralbem.spectral import Cell, SpectralOperator  # noqa: E402
+from spectralbem.surfaces import paraboloid  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def timed(module, name, bucket):
+    f = getattr(module, name)
+
+    def wrapper(*a, **k):
+        t = time.perf_counter()
+        try:
+            return f(*a, **k)
+        finally:
+            bucket[name] = bucket.get(name, 0.0) + time.perf_counter() - t
+            bucket[name + "_n"] = bucket.get(name + "_n", 0) + 1
+
+    setattr(module, name, wrapper)
+
+
+def run(n: int = 512, sigma: float = 6.0):
+    a_j = 0.1
+    w = a_j**3 * (4.0 / 3.0) / (6 * np.pi)
+    cell = Cell(1.0, 1.0, n, n)
+    op = SpectralOperator(cell, StandardLinearSolid(1.0, 10.0, 1.0, 0.0),
+                          velocity=(0.1 * a_j, 0.0))
+    h = paraboloid(cell, 1.0)
+    X, Y = cell.coordinates()
+    r = np.hypot(X - n // 2 * cell.hx, Y - n // 2 * cell.hy)
+    bucket = {}
+    timed(ad, "solve_masked", bucket)
+    timed(cr, "solve_masked", bucket)
+    t0 = time.perf_counter()
+    res = ad.solve_adhesive(op, h, w, cell.hx, mean_pressure=0.0, mask0=r < a_j,
+                            front_smoothing=sigma)
+    wall = time.perf_counter() - t0
+    solves = res.solves
+    t_solve = bucket.get("solve_masked", 0.0)
+    a = np.sqrt(res.mask.sum() * cell.cell_area / np.pi)
+    row = dict(N=n, sigma=sigma, wall=wall, status=res.status, outer=res.outer_iterations, solves=solves,
+               per_outer=solves / max(res.outer_iterations, 1), t_solve=t_solve,
+               t_rest=wall - t_solve, radius_cells=a / cell.hx,
+               radius_jkr_E0=ref.jkr_radius(0.0, 1.0, 1.0, w) / cell.hx, message=res.message)
+    return row
+
+
+def main():
+    n = int(sys.argv[1]) if len(sys.argv) > 1 else 512
+    row = run(n)
+    print(row)
+    table = (
+        "| N² | wall s | status | outer iterations | masked solves | solves/outer | "
+        "time in masked solves s | rest s | contact radius (cells) |\n"
+        "|---|---|---|---|---|---|---|---|---|\n"
+        f"| {row['N']}² | {row['wall']:.1f} | {row['status']} | {row['outer']} | "
+        f"{row['solves']} | {row['per_outer']:.1f} | {row['t_solve']:.1f} | "
+        f"{row['t_rest']:.1f} | {row['radius_cells']:.1f} (JKR with E0: "
+        f"{row['radius_jkr_E0']:.1f}) |\n\n"
+        f"Solver message: {row['message'][:160]}\n")
+    doc = ROOT / "docs" / "performance.md"
+    text = doc.read_text()
+    start, end = "<!-- bench:sphere -->", "<!-- /bench:sphere -->"
+    if start in text and end in text:
+        text = text.split(start)[0] + start + "\n" + table + end + text.split(end)[1]
+        doc.write_text(text)
+
+
+if __name__ == "__main__":
+    main()

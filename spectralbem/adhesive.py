@@ -157,6 +157,11 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
             flaw = None if flaw_tried else _nucleation_flaw(op, h, mean_pressure, penetration,
                                                             a0)
             if flaw is None:
+                from .contact import _full_contact
+
+                full = _full_contact(op, h, mean_pressure, penetration)
+                if full is not None:  # report the full-contact state itself
+                    p, delta = full
                 status, message = "full_contact", "the contact covers the cell"
                 if flaw_tried:
                     message += " (a flaw of radius a0 nucleated at the peak tension closed)"

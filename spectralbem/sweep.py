@@ -178,13 +178,17 @@ def run_sweep(scene_file, over: list, out, *, overrides: dict | None = None,
     parts = Path(str(out) + ".parts")
     parts.mkdir(exist_ok=True)
     manifest = parts / "manifest.json"
-    if manifest.exists():
-        old = json.loads(manifest.read_text() or "{}")
-        if old.get("digest") != digest:
-            raise SweepError(f"{parts} holds the points of a different sweep (digest "
-                             f"{old.get('digest')} ≠ {digest}); remove it or choose another -o")
-    else:
-        manifest.write_text(json.dumps({"digest": digest, "keys": keys, "values": grids}))
+    try:
+        old = json.loads(manifest.read_text()) if manifest.exists() else None
+    except (OSError, ValueError):
+        old = None  # a damaged manifest is rewritten: the point files carry their own digest
+    if old is not None and old.get("digest") != digest:
+        raise SweepError(f"{parts} holds the points of a different sweep (digest "
+                         f"{old.get('digest')} ≠ {digest}); remove it or choose another -o")
+    if old is None:
+        tmp = manifest.with_suffix(".tmp")
+        tmp.write_text(json.dumps({"digest": digest, "keys": keys, "values": grids}))
+        os.replace(tmp, manifest)
     files = [parts / f"point_{i:05d}.nc" for i in range(len(points))]
     todo = [i for i in range(len(points)) if not _part_ok(files[i], i, digest)]
     for i in todo:  # a partial or foreign file is never trusted

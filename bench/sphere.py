@@ -66,7 +66,8 @@ def run(n: int = 512, sigma: float = 6.0):
     solves = res.solves
     t_solve = bucket.get("solve_masked", 0.0)
     a = np.sqrt(res.mask.sum() * cell.cell_area / np.pi)
-    row = dict(N=n, sigma=sigma, wall=wall, status=res.status, outer=res.outer_iterations, solves=solves,
+    row = dict(N=n, sigma=sigma, wall=wall, status=res.status, outer=res.outer_iterations,
+               solves=solves,
                per_outer=solves / max(res.outer_iterations, 1), t_solve=t_solve,
                t_rest=wall - t_solve, radius_cells=a / cell.hx,
                radius_jkr_E0=ref.jkr_radius(0.0, 1.0, 1.0, w) / cell.hx, message=res.message)

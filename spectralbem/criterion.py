@@ -255,8 +255,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     F_open = smooth_along_front(F_open, b.inner_front, front_smoothing, W_open)
     solves += psi is not None
     return FrontTest(F_close, F_open, G_close, dLP_cells, g_open, closing, opening, cols, b,
-                     solves,
-                     bool(ok), msg)
+                     solves, bool(ok), msg)
 
 
 def adjoint_weights(op: SpectralOperator, mask: np.ndarray, p: np.ndarray,

@@ -7,7 +7,8 @@ iterations, masked solves per outer iteration and the time split (masked solves,
 applications outside them, the rest); writes the table between the markers
 <!-- bench:sphere --> in docs/performance.md.
 
-Usage: python bench/sphere.py [N]
+Usage: python bench/sphere.py [N [SIGMA ...]]   (default 512 12; SIGMA = front smoothing,
+cells)
 """
 
 from __future__ import annotations
@@ -76,17 +77,23 @@ def run(n: int = 512, sigma: float = 6.0):
 
 def main():
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 512
-    row = run(n)
-    print(row)
+    sigmas = [float(v) for v in sys.argv[2:]] or [12.0]
+    rows = []
+    for sg in sigmas:
+        row = run(n, sg)
+        print(row, flush=True)
+        rows.append(row)
     table = (
-        "| N² | wall s | status | outer iterations | masked solves | solves/outer | "
+        "| N² | σ (cells) | wall s | status | outer iterations | masked solves | solves/outer | "
         "time in masked solves s | rest s | contact radius (cells) |\n"
-        "|---|---|---|---|---|---|---|---|---|\n"
-        f"| {row['N']}² | {row['wall']:.1f} | {row['status']} | {row['outer']} | "
-        f"{row['solves']} | {row['per_outer']:.1f} | {row['t_solve']:.1f} | "
-        f"{row['t_rest']:.1f} | {row['radius_cells']:.1f} (JKR with E0: "
-        f"{row['radius_jkr_E0']:.1f}) |\n\n"
-        f"Solver message: {row['message'][:160]}\n")
+        "|---|---|---|---|---|---|---|---|---|---|\n")
+    for row in rows:
+        table += (
+            f"| {row['N']}² | {row['sigma']:g} | {row['wall']:.1f} | {row['status']} | "
+            f"{row['outer']} | {row['solves']} | {row['per_outer']:.1f} | {row['t_solve']:.1f} | "
+            f"{row['t_rest']:.1f} | {row['radius_cells']:.1f} (JKR with E0: "
+            f"{row['radius_jkr_E0']:.1f}) |\n")
+    table += "\n" + "\n".join(f"σ = {r['sigma']:g}: {r['message'][:150]}" for r in rows) + "\n"
     doc = ROOT / "docs" / "performance.md"
     text = doc.read_text()
     start, end = "<!-- bench:sphere -->", "<!-- /bench:sphere -->"

@@ -145,6 +145,19 @@ def _aggregate(values, owner, n):
     return np.bincount(owner[sel], weights=values[sel], minlength=n)
 
 
+def _balance(dL, band, owner, dg_area, F, W):
+    """Per owning front cell: F = Σ δL / Σ Δγ a - 1 over its band cells, W = Σ Δγ a (the
+    weight of the ratio of sums along the front); fills F and W in place, returns (Σ δL per
+    owner, owners with band cells)."""
+    own = np.where(band.ravel(), owner, -1)
+    num = _aggregate(dL.ravel(), own, F.size)
+    den = _aggregate(dg_area.ravel(), own, F.size)
+    has = den > 0
+    F.ravel()[has] = num[has] / den[has] - 1.0
+    W.ravel()[has] = den[has]
+    return num, has
+
+
 def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.ndarray,
                 dgamma, a0: float, *, rtol: float = 1e-10, vhat=(1.0, 0.0),
                 observables: dict | None = None, front_smoothing: float = FRONT_SMOOTHING,
@@ -209,11 +222,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             dLP = 0.5 * area * (np.sum(up * p) - np.sum(u * pp))
             closing[ci] = (float(dL.sum()), float(dU), float(dLP), float(D.sum() * area),
                            observe(pp))
-            num = _aggregate(dL.ravel(), np.where(D.ravel(), own, -1), n)
-            den = _aggregate((dg * area).ravel(), np.where(D.ravel(), own, -1), n)
-            has = den > 0
-            F_close.ravel()[has] = num[has] / den[has] - 1.0
-            W_close.ravel()[has] = den[has]
+            num, has = _balance(dL, D, own, dg * area, F_close, W_close)
             # per-cell δL_P from the adjoint weights (criterion.md §4.6); zero when elastic
             dLPj = np.where(D, area * pp * psi, 0.0) if psi is not None else np.zeros(D.shape)
             dLP_cells += dLPj
@@ -243,11 +252,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             dLP = 0.5 * area * (np.sum(u * pr) - np.sum(ur * p))
             opening[ci] = (float(dL.sum()), float(dU), float(dLP), float(R.sum() * area),
                            observe(pr))
-            num = _aggregate(dL.ravel(), np.where(R.ravel(), own_i, -1), n)
-            den = _aggregate((dg * area).ravel(), np.where(R.ravel(), own_i, -1), n)
-            has = den > 0
-            F_open.ravel()[has] = num[has] / den[has] - 1.0
-            W_open.ravel()[has] = den[has]
+            _balance(dL, R, own_i, dg * area, F_open, W_open)
     # ratio of sums along the front: each front cell weighs by its band's Δγ·area, so that
     # owners of unequal band patches (staircase corners) do not bias the local balance
     F_close = smooth_along_front(F_close, b.outer_front, front_smoothing, W_close)

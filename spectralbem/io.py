@@ -1,69 +1,51 @@
 """Result datasets (xarray) and atomic netCDF files.
 
-Every variable carries ``units`` and ``long_name``; the dataset carries the package version, a
-UTC timestamp, the solver diagnostics and the scene description (JSON) as attributes.
+Every variable carries ``units`` and ``long_name`` (the tables below, used by
+:mod:`spectralbem.scenes`); a dataset carries the package version, a UTC timestamp, the solver
+diagnostics and the scene description (JSON) as attributes.
 """
 
 from __future__ import annotations
 
-import datetime as _dt
-import json
 import os
 import tempfile
 from pathlib import Path
 
-import numpy as np
 import xarray as xr
 
-from . import __version__
-
-FIELD_META = {
+#: the one table of result variables: name -> (units, long name)
+SCALARS = {
+    "mean_pressure": ("Pa", "mean (nominal) pressure, compressive positive"),
+    "penetration": ("m", "penetration Δ, mean-level gauge"),
+    "area_fraction": ("1", "contact area fraction"),
+    "mu": ("1", "friction coefficient: force opposing v over normal force, Eq. (19) in 2D"),
+    "mu_lateral": ("1", "lateral force (along z × v) over normal force"),
+    "mu_profile": ("1", "friction coefficient from the rigid-profile force on the mask"),
+    "mu_dissipation": ("1", "friction coefficient from the spectral dissipation"),
+    "mu_adhesive": ("1", "adhesive friction -∮ G (n·v̂) ds / W, Eq. (23) in 2D"),
+    "G1": ("J/m²", "energy release rate at the trailing (opening) front, Eq. (20)"),
+    "G2": ("J/m²", "energy release rate at the leading (closing) front, Eq. (21)"),
+    "contact_half_width": ("m", "contact semi-width a of the sinusoid"),
+    "eccentricity": ("m", "contact eccentricity e (> 0: toward the leading edge)"),
+    "iterations": ("1", "solver iterations (adhesive: outer front iterations)"),
+    "solves": ("1", "masked linear solves"),
+    "unresolved_patches": ("1", "contact patches smaller than a disc of radius a0 (the band "
+                                "tests cannot resolve them)"),
+}
+FIELDS = {
     "heights": ("m", "rigid profile height toward the slab"),
     "pressure": ("Pa", "contact pressure (compressive positive)"),
     "displacement": ("m", "surface displacement into the slab"),
     "gap": ("m", "gap between slab and indenter"),
     "contact": ("1", "contact mask (1 in contact)"),
+    "G_front": ("1", "local conservative energy release rate G/Δγ on outer front cells"),
 }
-SCALAR_META = {
-    "mean_pressure": ("Pa", "mean (nominal) pressure"),
-    "penetration": ("m", "penetration, mean-level gauge"),
-    "area_fraction": ("1", "contact area fraction"),
-    "mu": ("1", "friction coefficient, seed Eq. (19) in 2D"),
-    "mu_lateral": ("1", "lateral force over normal force"),
-    "mu_profile": ("1", "friction coefficient from the rigid-profile force"),
-    "mu_dissipation": ("1", "friction coefficient from the spectral dissipation"),
-    "iterations": ("1", "solver iterations"),
-    "converged": ("1", "solver converged (1) or not (0)"),
-}
+STATUS = ("1", "partial | full_contact | detached | not_converged")
 
 
-def contact_dataset(result, cell, heights, scene: dict | None = None) -> xr.Dataset:
-    """Dataset of an adhesiveless :class:`~spectralbem.contact.ContactResult`."""
-    coords = {
-        "x": ("x", cell.x, {"units": "m", "long_name": "position along x"}),
-        "y": ("y", cell.y, {"units": "m", "long_name": "position along y"}),
-    }
-    fields = {
-        "heights": heights, "pressure": result.pressure, "displacement": result.displacement,
-        "gap": result.gap, "contact": result.mask.astype(np.int8),
-    }
-    data = {k: (("x", "y"), v, dict(zip(("units", "long_name"), FIELD_META[k], strict=True)))
-            for k, v in fields.items()}
-    for k in SCALAR_META:
-        val = getattr(result, k)
-        val = int(val) if isinstance(val, (bool, np.bool_)) else val
-        data[k] = ((), val, dict(zip(("units", "long_name"), SCALAR_META[k], strict=True)))
-    attrs = {
-        "title": "spectralbem contact result",
-        "spectralbem_version": __version__,
-        "created_utc": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
-        "solver_method": result.method,
-        "solver_message": result.message,
-        "solver_diagnostics": json.dumps(result.diagnostics, default=float),
-        "scene": json.dumps(scene or {}, default=str),
-        "conventions": "see spectralbem.conventions: u into the slab, p compressive positive",
-    }
-    return xr.Dataset(data, coords=coords, attrs=attrs)
+def attrs(entry) -> dict:
+    """``{"units", "long_name"}`` of a table entry (units, long name)."""
+    return {"units": entry[0], "long_name": entry[1]}
 
 
 def write_dataset(ds: xr.Dataset, path) -> Path:

@@ -28,6 +28,8 @@ import numpy as np
 
 from . import __version__
 from .contact import sliding_direction
+from .io import FIELDS, SCALARS, STATUS
+from .io import attrs as _attrs
 from .materials import Elastic, Material, MaterialError, Prony, StandardLinearSolid, Tabulated
 from .schema import SceneError, validate
 from .spectral import Cell, GridError, SpectralOperator
@@ -361,7 +363,7 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
     from .adhesive import solve_adhesive
     from .contact import friction, solve_contact
 
-    op = SpectralOperator(scene.cell, scene.material, velocity=scene.velocity)
+    op = _operator(scene)
     cell, h = scene.cell, scene.heights
     pstar = 0.5
     out = {}
@@ -456,35 +458,6 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
 
 
 # -- physical scenes -------------------------------------------------------------------------
-SCALARS = {  # name: (units, long name)
-    "mean_pressure": ("Pa", "mean (nominal) pressure, compressive positive"),
-    "penetration": ("m", "penetration Δ, mean-level gauge"),
-    "area_fraction": ("1", "contact area fraction"),
-    "mu": ("1", "friction coefficient: force opposing v over normal force, Eq. (19) in 2D"),
-    "mu_lateral": ("1", "lateral force (along z × v) over normal force"),
-    "mu_profile": ("1", "friction coefficient from the rigid-profile force on the mask"),
-    "mu_dissipation": ("1", "friction coefficient from the spectral dissipation"),
-    "mu_adhesive": ("1", "adhesive friction -∮ G (n·v̂) ds / W, Eq. (23) in 2D"),
-    "G1": ("J/m²", "energy release rate at the trailing (opening) front, Eq. (20)"),
-    "G2": ("J/m²", "energy release rate at the leading (closing) front, Eq. (21)"),
-    "contact_half_width": ("m", "contact semi-width a of the sinusoid"),
-    "eccentricity": ("m", "contact eccentricity e (> 0: toward the leading edge)"),
-    "iterations": ("1", "solver iterations (adhesive: outer front iterations)"),
-    "solves": ("1", "masked linear solves"),
-    "unresolved_patches": ("1", "contact patches smaller than a disc of radius a0 (the band "
-                                "tests cannot resolve them)"),
-}
-FIELDS = {
-    "heights": ("m", "rigid profile height toward the slab"),
-    "pressure": ("Pa", "contact pressure (compressive positive)"),
-    "displacement": ("m", "surface displacement into the slab"),
-    "gap": ("m", "gap between slab and indenter"),
-    "contact": ("1", "contact mask (1 in contact)"),
-    "G_front": ("1", "local conservative energy release rate G/Δγ on outer front cells"),
-}
-STATUS = ("1", "partial | full_contact | detached | not_converged")
-
-
 def _operator(scene: Scene) -> SpectralOperator:
     return SpectralOperator(scene.cell, scene.material, scene.layer, velocity=scene.velocity,
                             threads=scene.solver["threads"])
@@ -579,13 +552,13 @@ def _solve_grid(scene: Scene, mask0=None):
     fr = friction(op, h, p, u)
     sc.update(mean_pressure=float(p.mean()), penetration=float(delta),
               area_fraction=float(mask.mean()), **fr)
-    data = {k: ((), float(v), dict(zip(("units", "long_name"), SCALARS[k], strict=True)))
+    data = {k: ((), float(v), _attrs(SCALARS[k]))
             for k, v in sc.items()}
-    data["status"] = ((), status, dict(zip(("units", "long_name"), STATUS, strict=True)))
+    data["status"] = ((), status, _attrs(STATUS))
     if scene.fields:
         fields.update(pressure=p, displacement=u, gap=gap, contact=mask.astype(np.int8))
         for k, v in fields.items():
-            data[k] = (("x", "y"), v, dict(zip(("units", "long_name"), FIELDS[k], strict=True)))
+            data[k] = (("x", "y"), v, _attrs(FIELDS[k]))
     ds = xr.Dataset(data, coords={
         "x": ("x", cell.x, {"units": "m", "long_name": "position along x"}),
         "y": ("y", cell.y, {"units": "m", "long_name": "position along y"})})
@@ -636,11 +609,11 @@ def _solve_1d(scene: Scene, guess=None):
                 G1=ds.G1_over_dgamma.item() * dg, G2=ds.G2_over_dgamma.item() * dg,
                 contact_half_width=ds.a_tilde.item() / k, eccentricity=ds.e_tilde.item() / k)
     for key, v in vals.items():
-        ds[key] = ((), float(v), dict(zip(("units", "long_name"), SCALARS[key], strict=True)))
+        ds[key] = ((), float(v), _attrs(SCALARS[key]))
     ds["pressure"] = (("x",), -ds.sigma_tilde.values * ps,
-                      dict(zip(("units", "long_name"), FIELDS["pressure"], strict=True)))
+                      _attrs(FIELDS["pressure"]))
     ds["displacement"] = (("x",), ds.u_tilde.values * amp,
-                          dict(zip(("units", "long_name"), FIELDS["displacement"], strict=True)))
+                          _attrs(FIELDS["displacement"]))
     ds = ds.assign_coords(position=("x", ds.x_tilde.values / k,
                                     {"units": "m", "long_name": "position along x"}))
     ds.attrs.update({f"dimensionless_{n}": float(d[n]) for n in ("zeta", "beta", "Gamma",

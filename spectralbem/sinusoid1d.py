@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import functools
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -117,6 +118,32 @@ def _hermite(vals, slopes, pos, dx, periodic=False):
             + dx * (t * tm1 * tm1 * slopes[i0] + t2 * tm1 * slopes[i1]))
 
 
+def _periodic_cubic(vals, slopes, dx):
+    """Power-form coefficients of the periodic cubic Hermite interpolant, one row
+    (c0, c1, c2, c3) per interval: on [i, i+1), value = c0 + t(c1 + t(c2 + t c3))."""
+    v1, s0 = np.roll(vals, -1), dx * slopes
+    s1 = np.roll(s0, -1)
+    return np.ascontiguousarray(np.stack(
+        [vals, s0, 3.0 * (v1 - vals) - 2.0 * s0 - s1, 2.0 * (vals - v1) + s0 + s1], axis=1))
+
+
+def _eval_cubic(coefs, pos):
+    """Evaluate :func:`_periodic_cubic` at ``pos`` in [0, n) (cell units), overwriting ``pos``.
+
+    Hot path of the kernel matrices: one gather of coefficient rows (neighbouring positions
+    share cache lines) and a Horner scheme in place."""
+    i = pos.astype(np.intp)
+    np.minimum(i, coefs.shape[0] - 1, out=i)
+    pos -= i  # the fraction t
+    c = coefs.take(i, axis=0)
+    out = c[..., 3] * pos
+    for j in (2, 1):
+        out += c[..., j]
+        out *= pos
+    out += c[..., 0]
+    return out
+
+
 # ---------------------------------------------------------------------------------------------
 # periodic kernel
 
@@ -183,9 +210,9 @@ class Kernel1D:
         self.slope = ((size / self.lam) * np.fft.ifft(1j * freq * spec).real
                       + self._tails_slope(self.nodes))
         # near the origin the Clausen kinks defeat interpolation: there the tails are exact
-        self._near = 16 * self.dx
         nn = np.arange(-16, 17) * self.dx
         self._near_table = (nn[0], self._tails(nn), self._tails_slope(nn))
+        self._cubic = _periodic_cubic(self.table, self.slope, self.dx)
 
     def _tails(self, d):
         kd = self.k * np.asarray(d, dtype=float)
@@ -205,14 +232,22 @@ class Kernel1D:
         d = np.asarray(d, dtype=float)
         if self.table is None:
             return np.zeros_like(d)
-        r = _hermite(self.table, self.slope, np.mod(d, self.lam) / self.dx, self.dx,
-                     periodic=True)
-        dw = np.mod(d + self.lam / 2, self.lam) - self.lam / 2
-        near = np.abs(dw) < self._near
-        if np.any(near):
-            dn = dw[near]
+        n = self.table_size
+        if d.size and max(-d.min(), d.max()) >= self.lam:
+            d = np.mod(d, self.lam)
+        pos = d * (1.0 / self.dx)  # in cells, in (-n, n)
+        np.add(pos, n, out=pos, where=pos < 0)
+        # near the origin (and its periodic image) the Clausen kinks defeat interpolation:
+        # there the tails are exact (positions within 16 cells of 0 or n)
+        near = np.flatnonzero(np.abs(pos.ravel() - 0.5 * n) > 0.5 * n - 16)
+        r = _eval_cubic(self._cubic, pos)
+        if near.size:
+            dn = d.ravel()[near]
+            dn = dn - self.lam * np.round(dn / self.lam)
             x0, tv, ts = self._near_table
-            r[near] += self._tails(dn) - _hermite(tv, ts, (dn - x0) / self.dx, self.dx)
+            corr = self._tails(dn) - _hermite(tv, ts, (dn - x0) / self.dx, self.dx)
+            rv = r.reshape(-1)
+            rv[near] += corr
         return r
 
     def smooth(self, d) -> np.ndarray:
@@ -247,6 +282,10 @@ def _log_moments(xi: np.ndarray, M: int) -> np.ndarray:
     return out
 
 
+#: Gauss-Chebyshev nodes for the analytic part of the kernel (log sinc): enough for 1e-12
+Q_ANALYTIC = 1024
+
+
 @dataclass
 class Domain:
     """Contact domain [-l1, l2] with its spectral discretisation."""
@@ -273,7 +312,12 @@ class Domain:
         return sfft.dct(x, type=3)
 
     def response(self, kernel: Kernel1D, x) -> np.ndarray:
-        """Matrix A with u(x) = A @ c for points x (any position within a period)."""
+        """Matrix A with u(x) = A @ c for points x (any position within a period).
+
+        Three parts: the log|k d| singularity through exact moments; the analytic rest of
+        the E_tip log kernel, log sinc, by Gauss-Chebyshev on at most ``Q_ANALYTIC`` nodes;
+        the viscoelastic remainder R on all ``Q`` nodes (it varies on the relaxation length).
+        """
         x = np.asarray(x, dtype=float)
         lam = kernel.lam
         x = self.c + np.mod(x - self.c + lam / 2, lam) - lam / 2  # nearest periodic image
@@ -281,9 +325,14 @@ class Domain:
         A = _log_moments(xi, self.M)
         A[:, 0] += np.pi * (np.log(self.a) + np.log(kernel.k))
         A *= -kernel.cL * self.a
-        F = kernel.smooth(x[:, None] - self.xq[None, :])
-        Y = sfft.dct(F, type=2, axis=1)[:, : self.M]
-        A += self.a * (np.pi / self.Q) * 0.5 * Y
+        qe = min(self.Q, Q_ANALYTIC)
+        xq = self.xq if qe == self.Q else self.c + self.a * np.cos(
+            (np.arange(qe) + 0.5) * np.pi / qe)
+        F = log_sinc(kernel.k * (x[:, None] - xq[None, :]))
+        A -= (kernel.cL * self.a * np.pi / (2 * qe)) * sfft.dct(F, type=2, axis=1)[:, : self.M]
+        if kernel.table is not None:
+            F = kernel.remainder(x[:, None] - self.xq[None, :])
+            A += (self.a * np.pi / (2 * self.Q)) * sfft.dct(F, type=2, axis=1)[:, : self.M]
         return A
 
     def pressure(self, coef, x) -> np.ndarray:
@@ -399,20 +448,85 @@ class Sinusoid1D:
         return self.amp * (np.cos(self.k * np.asarray(x)) - 1.0) + delta
 
     # -- one domain -----------------------------------------------------------------------
-    def solve_domain(self, l1, l2, *, delta=None, p_mean=None) -> State:
-        """Solve Eq. (15) on [-l1, l2] at given Δ, or at given mean pressure p∞ (Δ solved)."""
+    def domain_pair(self, l1, l2):
+        """Eq. (15) on [-l1, l2] for the two unit loadings: (domain, c_w, c_1) with the state at
+        penetration Δ given by the Chebyshev coefficients c_w + Δ c_1 (the problem is linear
+        in Δ)."""
         dom = Domain(l1, l2, self.M, self.Q)
         A = dom.response(self.kernel, dom.x)
-        lu = np.linalg.solve
         rhs = np.column_stack([self.amp * (np.cos(self.k * dom.x) - 1.0), np.ones(self.M)])
-        sol = lu(A, rhs)
+        sol = np.linalg.solve(A, rhs)
+        return dom, sol[:, 0], sol[:, 1]
+
+    def solve_domain(self, l1, l2, *, delta=None, p_mean=None) -> State:
+        """Solve Eq. (15) on [-l1, l2] at given Δ, or at given mean pressure p∞ (Δ solved)."""
+        dom, cw, c1 = self.domain_pair(l1, l2)
         if delta is None:
             # p∞ = a π c0 / λ fixes Δ
-            c0w, c01 = sol[0, 0], sol[0, 1]
-            delta = (p_mean * self.lam / (dom.a * np.pi) - c0w) / c01
-        coef = sol[:, 0] + delta * sol[:, 1]
+            delta = (p_mean * self.lam / (dom.a * np.pi) - cw[0]) / c1[0]
+        coef = cw + delta * c1
         pm = dom.a * np.pi * coef[0] / self.lam
         return State(dom, coef, float(delta), float(pm), dom.sif(coef))
+
+    def edge_law(self, pair, side: int):
+        """Edge ``side`` (1 trailing, 2 leading) of a domain as a function of Δ.
+
+        Returns (K, work, gap): K(Δ) = k0 + k1 Δ (the SIF), the strip work δL(Δ) = q0 + q1 Δ +
+        q2 Δ² of Eq. (8) (closing the strip of width a0 with the domain held) and the strip
+        integral of the gap before closure s0 + s1 Δ, as coefficient arrays (lowest first).
+        Both the gap g₋ and the advanced pressure p₊ are linear in Δ, so one solve of each
+        domain serves every Δ.  ``work`` and ``gap`` are None when a0 = 0.
+        """
+        dom, cw, c1 = pair
+        K = np.array([dom.sif(cw)[side - 1], dom.sif(c1)[side - 1]])
+        if self.a0 == 0.0:
+            return K, None, None
+        l1, l2 = dom.l1, dom.l2
+        adv, aw, a1 = (self.domain_pair(l1 + self.a0, l2) if side == 1
+                       else self.domain_pair(l1, l2 + self.a0))
+        xs, ws = self._strip_points(dom, side, self.a0, 0.5)
+        R = dom.response(self.kernel, xs)
+        g0 = R @ cw - self.amp * (np.cos(self.k * xs) - 1.0)
+        g1 = R @ c1 - 1.0
+        p0, p1 = adv.pressure(aw, xs), adv.pressure(a1, xs)
+        work = -0.5 * np.array([np.sum(ws * g0 * p0), np.sum(ws * (g0 * p1 + g1 * p0)),
+                                np.sum(ws * g1 * p1)])
+        return K, work, np.array([np.sum(ws * g0), np.sum(ws * g1)])
+
+    def edge_residual(self, law, delta: float) -> float:
+        """The edge residual of :meth:`_residual` (√(G/Δγ) - 1, or the scaled SIF without
+        adhesion) from an :meth:`edge_law` at penetration Δ."""
+        K, work, gap = law
+        if self.dgamma == 0.0:
+            return float((K[0] + K[1] * delta) / (self.p_star() * np.sqrt(self.lam)))
+        if work is None:
+            k = K[0] + K[1] * delta
+            g = k * abs(k) / (2 * self.Estar_tip)
+        else:
+            g = (np.sign(gap[0] + gap[1] * delta)
+                 * abs(work[0] + work[1] * delta + work[2] * delta**2) / self.a0)
+        return float(np.sign(g) * np.sqrt(abs(g) / self.dgamma) - 1.0)
+
+    def edge_balance_delta(self, law) -> float:
+        """The penetration Δ at which the edge of ``law`` balances (nan if none).
+
+        δL(Δ) = a0 Δγ is a quadratic: of its roots the one with the edge in tension (the larger
+        K) and an open gap before closure is the physical one; with a0 = 0, K = √(2E*Δγ);
+        without adhesion K = 0."""
+        K, work, gap = law
+        if self.dgamma == 0.0 or work is None:
+            target = 0.0 if self.dgamma == 0.0 else np.sqrt(2 * self.Estar_tip * self.dgamma)
+            return float((target - K[0]) / K[1])
+        q0, q1, q2 = work[0] - self.a0 * self.dgamma, work[1], work[2]
+        disc = q1 * q1 - 4 * q2 * q0
+        if not disc >= 0 or q2 == 0:
+            return np.nan
+        r = np.sqrt(disc)
+        roots = [(-q1 + r) / (2 * q2), (-q1 - r) / (2 * q2)]
+        roots = [d for d in roots if gap[0] + gap[1] * d > 0]
+        if not roots:
+            return np.nan
+        return float(max(roots, key=lambda d: K[0] + K[1] * d))
 
     def gap(self, state: State, x) -> np.ndarray:
         """g = u - w at points x (zero inside the contact up to the collocation error)."""
@@ -420,7 +534,7 @@ class Sinusoid1D:
         return A @ state.coef - self.w(x, state.delta)
 
     # -- edge energy balance ------------------------------------------------------------
-    def _strip_points(self, base: State, side: int, a0: float, beta: float):
+    def _strip_points(self, base, side: int, a0: float, beta: float):
         """Gauss-Jacobi nodes x and weights on the strip of width a0 outside edge ``side``
         (1 trailing, 2 leading), for integrands ~ (distance to new edge)^-½ ·
         (distance to old edge)^beta.  Returns (x, weights already divided by the weight)."""
@@ -479,15 +593,16 @@ class Sinusoid1D:
 
     # -- equilibrium --------------------------------------------------------------------
     def _residual(self, y, control, value):
+        """Edge residuals (trailing, leading) of the domain [-l1, l2] at given Δ or p∞."""
         l1, l2 = y
         if not (l1 + l2 > 0 and l1 + l2 < self.lam * 0.999):
             return np.array([1e3, 1e3])
-        st = self.solve_domain(l1, l2, **{control: value})
-        if self.dgamma == 0.0:
-            s = self.p_star() * np.sqrt(self.lam)
-            return np.array([st.K[0] / s, st.K[1] / s])
-        G = self.release_rates(st)
-        return np.array([np.sign(g) * np.sqrt(abs(g) / self.dgamma) - 1.0 for g in G])
+        pair = self.domain_pair(l1, l2)
+        dom, cw, c1 = pair
+        delta = (value if control == "delta"
+                 else (value * self.lam / (dom.a * np.pi) - cw[0]) / c1[0])
+        return np.array([self.edge_residual(self.edge_law(pair, side), delta)
+                         for side in (1, 2)])
 
     def p_star(self):
         """p* = E0* k Λ/2 (Westergaard full-contact pressure), with E0 = ``E_ref``."""
@@ -881,28 +996,64 @@ def sweep(zeta, beta: float, Gamma: float, *, p_tilde=None, delta_tilde=None, a0
 
 
 def branch_point(pr: Sinusoid1D, a: float, guess=(0.0, None)):
-    """Equilibrium at half-width a: solve (e, Δ) so that both edges balance.  Returns State."""
+    """Equilibrium at half-width a: the eccentricity e and penetration Δ at which both edges
+    balance.  Returns State (``info['converged']``).
+
+    The state is linear in Δ for a fixed domain, so for each trial e the trailing-edge balance
+    gives Δ in closed form (:meth:`Sinusoid1D.edge_balance_delta`) and only the leading-edge
+    residual is left: a scalar secant search in e, three domain solves per trial.  A 2D Newton
+    search in (e, Δ) is the fallback.
+    """
+    from scipy.optimize import root_scalar
+
     e0, d0 = guess
-    if d0 is None:
-        d0 = pr.amp * np.sin(pr.k * a / 2) ** 2
+    # a contact may lie wholly on one side of the crest (small, fast contacts): only its span
+    # and the position of its centre within the period are limited
+    def ok_span(e):
+        return 2 * a < 0.999 * pr.lam and abs(e) < 0.5 * pr.lam
 
-    def F(y):
-        e, d = y
-        l1, l2 = a - e, a + e
-        if not (l1 + l2 < 0.999 * pr.lam and l1 > -0.999 * a and l2 > -0.999 * a):
-            return np.array([1e3, 1e3])
-        return pr._residual((l1, l2), "delta", d)
+    last = {}
 
-    sol = root(F, np.array([e0, d0], float), method="hybr", options={"xtol": 1e-12})
-    e, d = sol.x
+    def F(e):
+        if not ok_span(e):
+            return np.nan
+        pair = pr.domain_pair(a - e, a + e)
+        d = pr.edge_balance_delta(pr.edge_law(pair, 1))
+        if not np.isfinite(d):
+            return np.nan
+        last[e] = d
+        return pr.edge_residual(pr.edge_law(pair, 2), d)
+
+    res = np.inf
+    try:
+        with warnings.catch_warnings():  # "tolerance reached": judged by the residual below
+            warnings.simplefilter("ignore", RuntimeWarning)
+            sol = root_scalar(F, x0=e0, x1=e0 + 1e-3 * a, method="secant", xtol=1e-13,
+                              rtol=1e-13, maxiter=40)
+        if sol.converged and np.isfinite(sol.root):
+            e = sol.root
+            res = abs(F(e))  # (the secant's last iterate is not evaluated)
+    except (ValueError, ArithmeticError):
+        pass
+    if res < 1e-8:
+        d, message = last[e], "secant in e, Δ from the trailing edge"
+    else:  # fallback: Newton-type search in (e, Δ) on both residuals
+        if d0 is None:
+            d0 = pr.amp * np.sin(pr.k * a / 2) ** 2
+
+        def F2(y):
+            e, d = y
+            if not ok_span(e):
+                return np.array([1e3, 1e3])
+            return pr._residual((a - e, a + e), "delta", d)
+
+        sol2 = root(F2, np.array([e0, d0], float), method="hybr", options={"xtol": 1e-12})
+        (e, d), res, message = sol2.x, float(np.max(np.abs(sol2.fun))), sol2.message
     st = pr.solve_domain(a - e, a + e, delta=d)
     if pr.dgamma and pr.a0:
         pr.release_rates(st)
-    st.info = {"converged": bool(np.max(np.abs(sol.fun)) < 1e-8), "message": sol.message,
-               "residual": float(np.max(np.abs(sol.fun)))}
+    st.info = {"converged": bool(res < 1e-8), "message": message, "residual": float(res)}
     return st
-
-
 
 
 def special_points(zeta: float, beta: float, Gamma: float, *, a0_tilde: float,
@@ -942,15 +1093,20 @@ def special_points(zeta: float, beta: float, Gamma: float, *, a0_tilde: float,
 
     def refine(col, idx, sign):
         lo, hi = A[max(idx - 1, 0)], A[min(idx + 1, A.size - 1)]
+        # the value at an extremum is flat in ã: xatol 1e-6 leaves ~1e-12 in the value
         r = minimize_scalar(lambda a: sign * at(a)[col], bounds=(lo, hi), method="bounded",
-                            options={"xatol": 1e-8})
+                            options={"xatol": 1e-6})
         return r.x, sign * r.fun
 
-    a_pmin, p_min = refine(0, int(np.argmin(P)), 1.0)
-    a_dmin, d_min = refine(1, int(np.argmin(D)), 1.0)
-    above = A > a_pmin
-    imax = int(np.argmax(np.where(above, P, -np.inf)))
-    a_pmax, p_max = refine(0, imax, -1.0) if 0 < imax < A.size - 1 else (np.nan, np.nan)
+    # the snap-in point is the branch's load maximum; beyond it (toward full contact) the
+    # load falls again on an unstable branch, possibly below the pull-off load: the minima
+    # are sought on the part of the branch before the maximum
+    imax = int(np.argmax(P))
+    interior = 0 < imax < A.size - 1
+    a_pmax, p_max = refine(0, imax, -1.0) if interior else (np.nan, np.nan)
+    before = A <= A[imax] if interior else np.ones(A.size, bool)
+    a_pmin, p_min = refine(0, int(np.argmin(np.where(before, P, np.inf))), 1.0)
+    a_dmin, d_min = refine(1, int(np.argmin(np.where(before, D, np.inf))), 1.0)
     cross = np.flatnonzero((P[:-1] < 0) & (P[1:] > 0) & (A[:-1] >= a_pmin))
     a_zero = (brentq(lambda a: at(a)[0], A[cross[0]], A[cross[0] + 1], xtol=1e-12)
               if cross.size else np.nan)

@@ -24,7 +24,7 @@ demo: $(STAMP)
 	@echo "next: $(BIN)/spectralbem run cases/<scene>.toml -o x.nc && $(BIN)/spectralbem plot x.nc"
 
 test: $(STAMP)
-	MPLBACKEND=Agg $(BIN)/python -m pytest -n $(JOBS) -q
+	MPLBACKEND=Agg $(BIN)/python -m pytest -n $(JOBS) --dist loadgroup -q
 
 validate: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python -m spectralbem.validate

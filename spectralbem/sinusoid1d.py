@@ -1093,9 +1093,9 @@ def special_points(zeta: float, beta: float, Gamma: float, *, a0_tilde: float,
 
     def refine(col, idx, sign):
         lo, hi = A[max(idx - 1, 0)], A[min(idx + 1, A.size - 1)]
-        # the value at an extremum is flat in ã: xatol 1e-6 leaves ~1e-12 in the value
+        # the value at an extremum is flat in ã: xatol 1e-5 leaves ~1e-10 in the value
         r = minimize_scalar(lambda a: sign * at(a)[col], bounds=(lo, hi), method="bounded",
-                            options={"xatol": 1e-6})
+                            options={"xatol": 1e-5})
         return r.x, sign * r.fun
 
     # the snap-in point is the branch's load maximum; beyond it (toward full contact) the

@@ -188,16 +188,30 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         return pl.forward(x.reshape(shape))
 
     def u_from(P):
+        """u = C p, in the plan's output buffer (overwritten by the next call: u is used up
+        by then)."""
         nonlocal inverses
         inverses += 1
         np.multiply(P, kn, out=pl.spectrum_buffer)
-        return pl.inverse_buffer().ravel().copy()
+        return pl.inverse_buffer().reshape(-1)
+
+    rin = pl.input_buffer  # kept zero between sparse transforms
+
+    def fwd_sparse(ind, vals):
+        """FFT of the field that is ``vals`` on ``ind`` and zero elsewhere, written straight
+        into the transform's input (no full-size copy)."""
+        nonlocal forwards
+        forwards += 1
+        rin.put(ind, vals)
+        out = pl.forward_buffer()
+        rin.put(ind, 0.0)
+        return out
 
     P = fwd(p).copy()
+    rin[...] = 0.0
     u = u_from(P)
-    t = np.zeros(n)
-    c = np.zeros(n)
     buf = np.empty(n)
+    kwT = np.empty_like(P)  # scratch for the Parseval product
     idx = np.flatnonzero(p > 0)
     wc = w.take(idx)  # w and p on the contact set, kept in step with idx
     pc_cur = p.take(idx)
@@ -236,10 +250,9 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         if load:
             tc -= tc.mean()
         G_old = G
-        t.put(idx, tc)
-        T = fwd(t)  # the plan's output buffer: used up before the next forward transform
-        t.put(idx, 0.0)
-        denom = float(np.vdot(T, kw * T).real)  # ⟨C t, t⟩ by Parseval
+        T = fwd_sparse(idx, tc)  # the plan's output buffer: used up before the next forward
+        np.multiply(T, kw, out=kwT)
+        denom = float(np.vdot(T, kwT).real)  # ⟨C t, t⟩ by Parseval
         if not denom > 0:
             message = f"search direction degenerate at iteration {it} (error {err:.3e})"
             break
@@ -254,14 +267,10 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         if not np.may_share_memory(r_, P):  # f2py copied (non-contiguous input)
             P[...] = r_.reshape(P.shape)
         if changed or ov.size:
-            cidx = idx[clipped]
-            c.put(cidx, -pc[clipped])
-            pc[clipped] = 0.0
             pov = -tau * (buf.take(ov) - gbar)
-            c.put(ov, pov)
-            P += fwd(c)
-            c.put(cidx, 0.0)
-            c.put(ov, 0.0)
+            P += fwd_sparse(np.concatenate([idx[clipped], ov]),
+                            np.concatenate([-pc[clipped], pov]))
+            pc[clipped] = 0.0
         total = float(pc.sum()) + (float(pov.sum()) if ov.size else 0.0)
         scale = target * n / total if load else 1.0
         if not (np.isfinite(scale) and scale > 0):
@@ -274,6 +283,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             p.put(ov, pov)
         if it % refresh == 0:
             P[...] = fwd(p)
+            rin[...] = 0.0
         elif scale != 1.0:
             P *= scale
         u = u_from(P)
@@ -292,7 +302,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         message = f"not converged in {maxiter} iterations (error {err:.3e} > tol {tol:.1e})"
     delta = gbar if load else float(penetration)
     pairs = 0.5 * (forwards + inverses)
-    return p.reshape(shape), u.reshape(shape), delta, it, converged, message, pairs
+    return p.reshape(shape), u.reshape(shape).copy(), delta, it, converged, message, pairs
 
 
 #: outer iterations after which the active set moves only its worst offender per side

@@ -77,15 +77,20 @@ class RealFFT2:
         self.threads = threads
         self.use_fftw = use_fftw
         if use_fftw:
-            flags = (planner(), "FFTW_DESTROY_INPUT")
-            self._rin = pyfftw.empty_aligned(self.shape, dtype="float64")
+            self._rin = pyfftw.zeros_aligned(self.shape, dtype="float64")
             self._cout = pyfftw.empty_aligned(self.hshape, dtype="complex128")
             self._cin = pyfftw.empty_aligned(self.hshape, dtype="complex128")
             self._rout = pyfftw.empty_aligned(self.shape, dtype="float64")
+            # the r2c keeps its input (FFTW's default without DESTROY_INPUT: callers may keep
+            # a sparse field in input_buffer); the c2r may destroy its spectrum
+            # (a multi-dimensional c2r cannot preserve it)
             self._fwd = pyfftw.FFTW(self._rin, self._cout, axes=(0, 1), direction="FFTW_FORWARD",
-                                    flags=flags, threads=threads)
+                                    flags=(planner(),), threads=threads)
             self._bwd = pyfftw.FFTW(self._cin, self._rout, axes=(0, 1),
-                                    direction="FFTW_BACKWARD", flags=flags, threads=threads)
+                                    direction="FFTW_BACKWARD",
+                                    flags=(planner(), "FFTW_DESTROY_INPUT"), threads=threads)
+        else:
+            self._rin = np.zeros(self.shape)
 
     # -- transforms -------------------------------------------------------------------------
     def forward(self, x: np.ndarray) -> np.ndarray:
@@ -94,6 +99,19 @@ class RealFFT2:
             self._fwd.execute()
             return self._cout
         return np.fft.rfft2(x)
+
+    @property
+    def input_buffer(self) -> np.ndarray:
+        """Input buffer of the forward transform (write a field, then ``forward_buffer``);
+        :meth:`forward` overwrites it."""
+        return self._rin
+
+    def forward_buffer(self) -> np.ndarray:
+        """r2c of :attr:`input_buffer`, which is preserved (no copy of the field)."""
+        if self.use_fftw:
+            self._fwd.execute()
+            return self._cout
+        return np.fft.rfft2(self._rin)
 
     @property
     def spectrum_buffer(self) -> np.ndarray:

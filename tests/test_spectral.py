@@ -108,6 +108,19 @@ def test_numpy_fallback_equals_fftw(rng):
         np.testing.assert_allclose(b.inverse(X), x * x.size, atol=1e-11)
 
 
+@pytest.mark.parametrize("use_fftw", [False, True])
+def test_forward_of_input_buffer_preserves_it(rng, use_fftw):
+    """The PK loop keeps a sparse search direction in the r2c input: the transform must equal
+    rfft2 and leave the input untouched (FFTW r2c without DESTROY_INPUT)."""
+    if use_fftw and fft.backend() != "pyfftw":
+        pytest.skip("pyFFTW not installed")
+    x = rng.standard_normal((24, 10))
+    a = fft.RealFFT2(x.shape, use_fftw=use_fftw)
+    a.input_buffer[...] = x
+    np.testing.assert_allclose(a.forward_buffer(), np.fft.rfft2(x), atol=1e-12)
+    assert np.array_equal(a.input_buffer, x)
+
+
 def test_one_fft_pair_per_application(monkeypatch):
     cell = Cell(1.0, 1.0, 16, 16)
     op = SpectralOperator(cell, SLS, velocity=(1.0, 0.0))

@@ -198,16 +198,33 @@ def fig9_11(quick):
 def special(args):
     zeta, Gamma = args
     sp = s1.special_points(zeta, BETA, Gamma, a0_tilde=A0, n=24, cheb=12)
-    return {k: sp[k] for k in ("p_min", "delta_min", "p_dmin", "T", "p_max")} | {
-        "branch": sp["branch"]}
+    out = {k: float(sp[k]) for k in ("p_min", "delta_min", "p_dmin", "T", "p_max")}
+    return out | {"branch": {k: np.asarray(v).tolist() for k, v in sp["branch"].items()}}
 
 
-def fig12_13(quick):
+SPECIAL_CACHE = OUT / "special_points.json"  # (ζ, Γ) -> special points and branch
+
+
+def special_points_for(jobs):
+    """Special points for each (ζ, Γ), computed in parallel where not yet in the cache file
+    (re-plotting Figs. 12-13 costs nothing; delete the file to recompute)."""
+    import json
+
+    cache = json.loads(SPECIAL_CACHE.read_text()) if SPECIAL_CACHE.exists() else {}
+    key = [f"{z:.6g},{g:g}" for z, g in jobs]
+    todo = [j for j, k in zip(jobs, key, strict=True) if k not in cache]
+    if todo:
+        with ProcessPoolExecutor(max_workers=os.cpu_count() or 1) as ex:
+            for j, r in zip(todo, ex.map(special, todo), strict=True):
+                cache[f"{j[0]:.6g},{j[1]:g}"] = r
+        SPECIAL_CACHE.write_text(json.dumps(cache))
+    return [cache[k] for k in key]
+
+
+def fig12(quick):
     zs = np.logspace(-3, 2, 6 if quick else 11)
     gammas = (0.004, 0.008, 0.016)
-    jobs = [(z, g) for g in gammas for z in zs]
-    with ProcessPoolExecutor(max_workers=os.cpu_count() or 1) as ex:
-        res = list(ex.map(special, jobs))
+    res = special_points_for([(z, g) for g in gammas for z in zs])
     fig, ax = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
     for i, g in enumerate(gammas):
         rr = res[i * zs.size:(i + 1) * zs.size]
@@ -226,20 +243,39 @@ def fig12_13(quick):
     ax[1].legend(fontsize=8)
     stamp(fig, f"Fig. 12 — β = {BETA:g}, ã0 = {A0} (dotted: iso-ζ)")
     fig.savefig(OUT / "fig12_toughness.png", dpi=110)
-    fig, ax = plt.subplots(figsize=(6, 4.5), constrained_layout=True)
-    rr = res[zs.size:2 * zs.size]  # Γ = 0.008
+
+
+def fig13(quick):
+    """p̃∞ against Δ̃ along the equilibrium branch, one curve per ζ: (a) ζ ≤ 1 on linear axes,
+    where the snap-in load (○) falls with ζ; (b) all ζ, symmetric-log load axis."""
+    zs = np.logspace(-3, 2, 6 if quick else 11)
+    res = special_points_for([(z, GAMMA) for z in zs])
+    colours = plt.cm.viridis(np.linspace(0, 0.95, zs.size))
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.5), constrained_layout=True)
     for j, z in enumerate(zs):
-        br = rr[j]["branch"]
-        ax.plot(br["delta_tilde"], br["p_tilde"], f"C{j % 10}-", label=f"ζ = {z:.2g}")
-    ax.set_xlabel("Δ̃")
-    ax.set_ylabel("p̃∞")
-    ax.legend(fontsize=7, ncol=2)
+        br, r = res[j]["branch"], res[j]
+        for k, a in enumerate(ax):
+            if k == 0 and z > 1.0:
+                continue
+            a.plot(br["delta_tilde"], br["p_tilde"], "-", color=colours[j],
+                   label=f"ζ = {z:.2g}" if k == 1 or z <= 1.0 else None)
+            i = int(np.argmax(br["p_tilde"]))
+            if np.isfinite(r["p_max"]):
+                a.plot(br["delta_tilde"][i], r["p_max"], "o", color=colours[j], ms=4)
+    ax[1].set_yscale("symlog", linthresh=0.1)
+    for a in ax:
+        a.axhline(0.0, color="0.6", lw=0.6)
+        a.set_xlabel("Δ̃")
+        a.set_ylabel("p̃∞")
+        a.legend(fontsize=7, ncol=2)
+    ax[0].set_title("(a) ζ ≤ 1 (○: snap-in to full contact)")
+    ax[1].set_title("(b) all ζ")
     stamp(fig, f"Fig. 13 — β = {BETA:g}, Γ = {GAMMA}, ã0 = {A0}")
     fig.savefig(OUT / "fig13_load_penetration.png", dpi=110)
 
 
-FIGS = {3: fig3, 5: fig5, 6: fig6, 7: fig7, 8: fig8, 9: fig9_11, 11: fig9_11, 12: fig12_13,
-        13: fig12_13}
+FIGS = {3: fig3, 5: fig5, 6: fig6, 7: fig7, 8: fig8, 9: fig9_11, 11: fig9_11, 12: fig12,
+        13: fig13}
 
 
 def main(argv=None):

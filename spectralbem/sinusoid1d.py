@@ -528,6 +528,12 @@ class Sinusoid1D:
             return np.nan
         return float(max(roots, key=lambda d: K[0] + K[1] * d))
 
+    def interpenetration(self, state: State, n: int = 64) -> float:
+        """-min(gap)/Λ over n points spread across the separated part of the period (> 0: the
+        state interpenetrates outside its contact and is not admissible)."""
+        x = state.l2 + (self.lam - state.l1 - state.l2) * (np.arange(n) + 0.5) / n
+        return float(max(0.0, -np.min(self.gap(state, x)) / self.amp))
+
     def gap(self, state: State, x) -> np.ndarray:
         """g = u - w at points x (zero inside the contact up to the collocation error)."""
         A = state.domain.response(self.kernel, x)
@@ -1052,7 +1058,11 @@ def branch_point(pr: Sinusoid1D, a: float, guess=(0.0, None)):
     st = pr.solve_domain(a - e, a + e, delta=d)
     if pr.dgamma and pr.a0:
         pr.release_rates(st)
-    st.info = {"converged": bool(res < 1e-8), "message": message, "residual": float(res)}
+    over = pr.interpenetration(st)
+    if over > 1e-6:  # both edges balance, but the surface crosses the profile elsewhere
+        message = f"inadmissible: interpenetrates by {over:.1e} Λ outside the contact"
+    st.info = {"converged": bool(res < 1e-8 and over <= 1e-6), "message": message,
+               "residual": float(res)}
     return st
 
 

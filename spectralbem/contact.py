@@ -187,12 +187,15 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         forwards += 1
         return pl.forward(x.reshape(shape))
 
-    def u_from(P):
-        """u = C p, in the plan's output buffer (overwritten by the next call: u is used up
-        by then)."""
+    knS = np.empty_like(kn)
+
+    def u_from(P, S):
+        """u = C p from p̂ = S·P, in the plan's output buffer (overwritten by the next call: u
+        is used up by then)."""
         nonlocal inverses
         inverses += 1
-        np.multiply(P, kn, out=pl.spectrum_buffer)
+        np.multiply(P, np.multiply(kn, S, out=knS) if S != 1.0 else kn,
+                    out=pl.spectrum_buffer)
         return pl.inverse_buffer().reshape(-1)
 
     rin = pl.input_buffer  # kept zero between sparse transforms
@@ -209,9 +212,10 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
 
     P = fwd(p).copy()
     rin[...] = 0.0
-    u = u_from(P)
+    S = 1.0  # p̂ = S·P: the load-control rescaling is a scalar, not a pass over P
+    u = u_from(P, S)
     buf = np.empty(n)
-    kwT = np.empty_like(P)  # scratch for the Parseval product
+    kw2 = np.repeat(kw.ravel(), 2)  # Parseval weights on the (re, im) pairs of T
     idx = np.flatnonzero(p > 0)
     wc = w.take(idx)  # w and p on the contact set, kept in step with idx
     pc_cur = p.take(idx)
@@ -251,8 +255,8 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             tc -= tc.mean()
         G_old = G
         T = fwd_sparse(idx, tc)  # the plan's output buffer: used up before the next forward
-        np.multiply(T, kw, out=kwT)
-        denom = float(np.vdot(T, kwT).real)  # ⟨C t, t⟩ by Parseval
+        Tv = T.reshape(-1).view(np.float64)
+        denom = float(np.einsum("i,i,i->", kw2, Tv, Tv))  # ⟨C t, t⟩ by Parseval, one pass
         if not denom > 0:
             message = f"search direction degenerate at iteration {it} (error {err:.3e})"
             break
@@ -262,14 +266,15 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         changed = bool(clipped.any())
         ov = np.flatnonzero(buf < gbar) if overlap_min < 0 else np.empty(0, dtype=np.intp)
         coef_flag = 0.0 if ov.size else 1.0
-        # P ← s (P - τ T + FFT(c)), c = the projection correction (clipping, overlap)
-        r_ = zaxpy(T.ravel(), P.ravel(), a=-tau)  # in place, one pass
+        # p̂ ← s (p̂ - τ T + FFT(c)), c = the projection correction (clipping, overlap);
+        # p̂ = S·P with the load rescaling s folded into the scalar S
+        r_ = zaxpy(T.ravel(), P.ravel(), a=-tau / S)  # in place, one pass
         if not np.may_share_memory(r_, P):  # f2py copied (non-contiguous input)
             P[...] = r_.reshape(P.shape)
         if changed or ov.size:
             pov = -tau * (buf.take(ov) - gbar)
             P += fwd_sparse(np.concatenate([idx[clipped], ov]),
-                            np.concatenate([-pc[clipped], pov]))
+                            np.concatenate([-pc[clipped], pov]) / S)
             pc[clipped] = 0.0
         total = float(pc.sum()) + (float(pov.sum()) if ov.size else 0.0)
         scale = target * n / total if load else 1.0
@@ -284,9 +289,10 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         if it % refresh == 0:
             P[...] = fwd(p)
             rin[...] = 0.0
-        elif scale != 1.0:
-            P *= scale
-        u = u_from(P)
+            S = 1.0
+        else:
+            S *= scale
+        u = u_from(P, S)
         if changed or ov.size:
             keep = ~clipped
             idx, tc, pc = idx[keep], tc[keep], pc[keep]

@@ -32,6 +32,9 @@ validate: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet -e '.[test,bench]'
 	$(BIN)/python bench/run.py
+	$(BIN)/python bench/krylov.py
+	$(BIN)/python bench/scaling.py
+	$(BIN)/python bench/sphere.py 512 12 6
 
 figures: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python cases/figures_1d.py

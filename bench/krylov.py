@@ -38,7 +38,7 @@ from spectralbem.spectral import SpectralOperator  # noqa: E402
 from spectralbem.surfaces import paraboloid  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from run import surface  # noqa: E402  (the rough surface of the Tamaas comparison)
+from run import surface, write_section  # noqa: E402  (surface: as in the Tamaas comparison)
 
 ROOT = Path(__file__).resolve().parent.parent
 BETAS = (1.0, 10.0, 100.0, 1e3, 1e4)
@@ -98,12 +98,7 @@ def main(argv=None):
             "β = 1 is the elastic case, where the symmetric system is solved as given):\n\n"
             + table(rows))
     (ROOT / "bench" / "krylov.json").write_text(json.dumps(rows, indent=1))
-    doc = ROOT / "docs" / "performance.md"
-    s = doc.read_text()
-    a, b = "<!-- bench:krylov -->", "<!-- /bench:krylov -->"
-    if a in s:
-        s = s[: s.index(a) + len(a)] + "\n" + text + "\n" + s[s.index(b):]
-        doc.write_text(s)
+    write_section("krylov", text)
     print(text)
 
 

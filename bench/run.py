@@ -164,16 +164,23 @@ def write_markdown(rows):
             f"spectralbem {__version__}, {fft.backend()} FFT, 1 thread, fastest of 3 runs up to "
             f"1024², Python "
             f"{platform.python_version()}, {platform.machine()} with 2 cores.")
+    write_section("elastic_rough", f"{meta}\n\n{table}")
+
+
+def write_section(name: str, text: str) -> None:
+    """Put ``text`` between the markers <!-- bench:NAME --> and <!-- /bench:NAME --> of
+    docs/performance.md (the block is appended when the markers are missing)."""
     doc = ROOT / "docs" / "performance.md"
-    text = doc.read_text() if doc.exists() else ""
-    start, end = "<!-- bench:elastic_rough -->", "<!-- /bench:elastic_rough -->"
-    block = f"{start}\n{meta}\n\n{table}\n{end}"
-    if start in text:
-        text = text[: text.index(start)] + block + text[text.index(end) + len(end):]
+    doc_text = doc.read_text() if doc.exists() else ""
+    start, end = f"<!-- bench:{name} -->", f"<!-- /bench:{name} -->"
+    block = f"{start}\n{text.rstrip()}\n{end}"
+    if start in doc_text and end in doc_text:
+        doc_text = (doc_text[: doc_text.index(start)] + block
+                    + doc_text[doc_text.index(end) + len(end):])
     else:
-        text = text + "\n" + block + "\n"
+        doc_text = doc_text + "\n" + block + "\n"
     doc.parent.mkdir(exist_ok=True)
-    doc.write_text(text)
+    doc.write_text(doc_text)
 
 
 if __name__ == "__main__":

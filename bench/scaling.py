@@ -35,12 +35,12 @@ import numpy as np  # noqa: E402
 
 import spectralbem.adhesive as ad  # noqa: E402
 from spectralbem.contact import polonsky_keer  # noqa: E402
-from spectralbem.materials import Elastic, StandardLinearSolid  # noqa: E402
-from spectralbem.spectral import Cell, SpectralOperator  # noqa: E402
-from spectralbem.surfaces import paraboloid  # noqa: E402
+from spectralbem.materials import Elastic  # noqa: E402
+from spectralbem.spectral import SpectralOperator  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from run import OUR_TOL, fft_pair_seconds, surface  # noqa: E402
+from run import OUR_TOL, fft_pair_seconds, surface, write_section  # noqa: E402
+from sphere import sphere_scene  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -59,14 +59,7 @@ def elastic_row(n: int) -> dict:
 
 
 def adhesive_row(n: int) -> dict:
-    a_j = 0.1
-    w = a_j**3 * (4.0 / 3.0) / (6 * np.pi)
-    cell = Cell(1.0, 1.0, n, n)
-    op = SpectralOperator(cell, StandardLinearSolid(1.0, 10.0, 1.0, 0.0),
-                          velocity=(0.1 * a_j, 0.0))
-    h = paraboloid(cell, 1.0)
-    X, Y = cell.coordinates()
-    mask0 = np.hypot(X - n // 2 * cell.hx, Y - n // 2 * cell.hy) < a_j
+    cell, op, h, w, mask0 = sphere_scene(n)
     sigma = 6.0 * n / 256  # the same smoothing length in units of the radius
     tracemalloc.start()
     t = time.perf_counter()
@@ -129,12 +122,7 @@ def main(argv=None):
                      f"{r['seconds']:.1f} | {r['outer_iterations']} outer | — | — | — | "
                      f"{r['peak_arrays']:.1f} |")
     text = "\n".join(lines)
-    doc = ROOT / "docs" / "performance.md"
-    s = doc.read_text()
-    a, b = "<!-- bench:scaling -->", "<!-- /bench:scaling -->"
-    if a in s:
-        s = s[: s.index(a) + len(a)] + "\n" + text + "\n" + s[s.index(b):]
-        doc.write_text(s)
+    write_section("scaling", text)
     print(text)
 
 

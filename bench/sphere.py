@@ -31,7 +31,8 @@ from spectralbem.materials import StandardLinearSolid  # noqa: E402
 from spectralbem.spectral import Cell, SpectralOperator  # noqa: E402
 from spectralbem.surfaces import paraboloid  # noqa: E402
 
-ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from run import write_section  # noqa: E402
 
 
 def timed(module, name, bucket):
@@ -48,20 +49,27 @@ def timed(module, name, bucket):
     setattr(module, name, wrapper)
 
 
-def run(n: int = 512, sigma: float = 6.0):
-    a_j = 0.1
-    w = a_j**3 * (4.0 / 3.0) / (6 * np.pi)
+A_J = 0.1  # JKR zero-load radius (units of L), the start disc
+
+
+def sphere_scene(n: int):
+    """(cell, operator, heights, Δγ, start mask) of the benchmark scene at n²."""
+    w = A_J**3 * (4.0 / 3.0) / (6 * np.pi)
     cell = Cell(1.0, 1.0, n, n)
     op = SpectralOperator(cell, StandardLinearSolid(1.0, 10.0, 1.0, 0.0),
-                          velocity=(0.1 * a_j, 0.0))
-    h = paraboloid(cell, 1.0)
+                          velocity=(0.1 * A_J, 0.0))
     X, Y = cell.coordinates()
-    r = np.hypot(X - n // 2 * cell.hx, Y - n // 2 * cell.hy)
+    mask0 = np.hypot(X - n // 2 * cell.hx, Y - n // 2 * cell.hy) < A_J
+    return cell, op, paraboloid(cell, 1.0), w, mask0
+
+
+def run(n: int = 512, sigma: float = 6.0):
+    cell, op, h, w, mask0 = sphere_scene(n)
     bucket = {}
     timed(ad, "solve_masked", bucket)
     timed(cr, "solve_masked", bucket)
     t0 = time.perf_counter()
-    res = ad.solve_adhesive(op, h, w, cell.hx, mean_pressure=0.0, mask0=r < a_j,
+    res = ad.solve_adhesive(op, h, w, cell.hx, mean_pressure=0.0, mask0=mask0,
                             front_smoothing=sigma)
     wall = time.perf_counter() - t0
     solves = res.solves
@@ -94,12 +102,7 @@ def main():
             f"{row['t_rest']:.1f} | {row['radius_cells']:.1f} (JKR with E0: "
             f"{row['radius_jkr_E0']:.1f}) |\n")
     table += "\n" + "\n".join(f"σ = {r['sigma']:g}: {r['message'][:150]}" for r in rows) + "\n"
-    doc = ROOT / "docs" / "performance.md"
-    text = doc.read_text()
-    start, end = "<!-- bench:sphere -->", "<!-- /bench:sphere -->"
-    if start in text and end in text:
-        text = text.split(start)[0] + start + "\n" + table + end + text.split(end)[1]
-        doc.write_text(text)
+    write_section("sphere", table)
 
 
 if __name__ == "__main__":

@@ -26,8 +26,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.linalg.blas import zaxpy
 
+from . import kernels
 from .masked import solve_masked
 from .spectral import SpectralOperator
 
@@ -141,12 +141,15 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
                   tol: float = 1e-10, maxiter: int = 10000, p0=None, refresh: int = 50):
     """Constrained CG of Polonsky & Keer (1999) for a symmetric operator.
 
-    The pressure is carried in Fourier space as well: the step length uses Parseval,
-    ⟨C t, t⟩ = Σ_q Ĉ |t̂|²/N, so an iteration costs one forward FFT (of the search direction
-    t) and one inverse FFT (u = C p); a change of the active set adds one forward FFT of the
-    sparse projection correction.  p̂ is recomputed exactly every ``refresh`` iterations.
-    Real-space work is done on packed index arrays of the contact set.  Under load control
-    the search direction is kept mean-free on the contact (the mean-gap term of PK).
+    The pressure is carried in Fourier space as well (p̂ = S·P, the load-control rescaling
+    folded into the scalar S): the step length uses Parseval, ⟨C t, t⟩ = Σ_q Ĉ |t̂|²/N, so an
+    iteration costs one forward FFT (of the search direction t) and one inverse FFT
+    (u = C p).  When the active set changes, the projection correction c (clipped cells,
+    cells that join) is folded into a second forward FFT, D = FFT(t − c/τ), that replaces
+    T in the update p̂ ← p̂ − τ·D; p̂ is recomputed exactly every ``refresh`` iterations.
+    Real-space work is done on packed index arrays of the contact set; the full-grid passes
+    are the fused loops of :mod:`spectralbem.kernels`.  Under load control the search
+    direction is kept mean-free on the contact (the mean-gap term of PK).
 
     The error is the complementarity ``Σ p|g| / (Σ p · (max h - min h))`` on the contact;
     convergence also requires no overlap (g < -tol·range where p = 0).
@@ -162,7 +165,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     hrange = max(float(h.max() - h.min()), np.finfo(float).tiny)
     load = mean_pressure is not None
     pl = op.plan
-    kn = op.kernel.real / n  # kernel with the inverse normalisation folded in
+    kn = np.ascontiguousarray(op.kernel.real / n)  # kernel with the 1/N of the inverse
     kw = np.ascontiguousarray(op.cell.rfft_weights() * kn)  # Parseval weights · Ĉ / N
     if load:
         target = float(mean_pressure)
@@ -181,45 +184,34 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
                 p[np.argmax(w)] = 1.0
             p *= hrange / max(float(op.apply(p.reshape(shape)).max()), 1e-300)
     forwards = inverses = 0
+    rin = pl.input_buffer.reshape(-1)  # zero outside the contact set between transforms
+    spec = pl.spectrum_buffer
 
-    def fwd(x):
+    def spectrum_of(field):
         nonlocal forwards
         forwards += 1
-        return pl.forward(x.reshape(shape))
-
-    knS = np.empty_like(kn)
-
-    def u_from(P, S):
-        """u = C p from p̂ = S·P, in the plan's output buffer (overwritten by the next call: u
-        is used up by then)."""
-        nonlocal inverses
-        inverses += 1
-        np.multiply(P, np.multiply(kn, S, out=knS) if S != 1.0 else kn,
-                    out=pl.spectrum_buffer)
-        return pl.inverse_buffer().reshape(-1)
-
-    rin = pl.input_buffer  # kept zero between sparse transforms
-
-    def fwd_sparse(ind, vals):
-        """FFT of the field that is ``vals`` on ``ind`` and zero elsewhere, written straight
-        into the transform's input (no full-size copy)."""
-        nonlocal forwards
-        forwards += 1
-        rin.put(ind, vals)
-        out = pl.forward_buffer()
-        rin.put(ind, 0.0)
+        rin[:] = field
+        out = pl.forward_buffer().copy()
+        rin[:] = 0.0
         return out
 
-    P = fwd(p).copy()
-    rin[...] = 0.0
-    S = 1.0  # p̂ = S·P: the load-control rescaling is a scalar, not a pass over P
-    u = u_from(P, S)
-    buf = np.empty(n)
-    kw2 = np.repeat(kw.ravel(), 2)  # Parseval weights on the (re, im) pairs of T
+    def inverse():
+        nonlocal inverses
+        inverses += 1
+        return pl.inverse_buffer().reshape(-1)  # u: overwritten by the next inverse
+
+    P = spectrum_of(p)
+    S = 1.0
+    kernels.spectrum_step(P, P, 0.0, kn, S, spec)
+    u = inverse()
     idx = np.flatnonzero(p > 0)
+    inside = np.zeros(n, dtype=bool)
+    inside[idx] = True
+    ov_buf = np.empty(n, dtype=np.intp)
     wc = w.take(idx)  # w and p on the contact set, kept in step with idx
     pc_cur = p.take(idx)
     tc = np.zeros(idx.size)
+    gc = np.empty(idx.size)
     coef_flag = 0.0
     G_old = 1.0
     err = np.inf
@@ -232,80 +224,82 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             message = "no contact: the indenter does not reach the surface"
             converged = True
             break
-        gc = u.take(idx)
-        gc -= wc
-        if load:
-            gbar = float(gc.mean())
-            gc -= gbar
-        pc = pc_cur.copy()
+        gbar, e_sum, p_sum, G = kernels.contact_gap(u, idx, wc, pc_cur, load, gc)
         # convergence test on the current state: complementarity and no overlap
-        np.subtract(u, w, out=buf)
-        buf.put(idx, np.inf)
-        overlap_min = float(buf.min()) - gbar
-        err = float(np.dot(pc, np.abs(gc)) / (pc.sum() * hrange))
+        gmin, n_ov = kernels.gap_scan(u, w, inside, gbar, ov_buf)
+        overlap_min = gmin - gbar
+        err = e_sum / (p_sum * hrange)
         if not np.isfinite(err):
             message = f"non-finite error at iteration {it}"
             break
         if err < tol and overlap_min >= -tol * hrange:
             converged, message = True, "converged"
             break
-        G = float(np.dot(gc, gc))
-        tc = gc + (coef_flag * G / G_old) * tc if coef_flag else gc.copy()
-        if load:
-            tc -= tc.mean()
+        forwards += 1
+        gc_tc = kernels.direction(gc, tc, coef_flag * G / G_old, load, rin, idx)
         G_old = G
-        T = fwd_sparse(idx, tc)  # the plan's output buffer: used up before the next forward
-        Tv = T.reshape(-1).view(np.float64)
-        denom = float(np.einsum("i,i,i->", kw2, Tv, Tv))  # ⟨C t, t⟩ by Parseval, one pass
+        T = pl.forward_buffer()  # the plan's output buffer
+        denom = kernels.parseval_sum(T, kw)  # ⟨C t, t⟩ by Parseval
         if not denom > 0:
             message = f"search direction degenerate at iteration {it} (error {err:.3e})"
             break
-        tau = float(np.dot(gc, tc)) / denom
+        pc = pc_cur.copy()
+        tau = gc_tc / denom
         pc -= tau * tc
         clipped = pc < 0
         changed = bool(clipped.any())
-        ov = np.flatnonzero(buf < gbar) if overlap_min < 0 else np.empty(0, dtype=np.intp)
+        ov = ov_buf[:n_ov].copy() if n_ov else ov_buf[:0]
         coef_flag = 0.0 if ov.size else 1.0
-        # p̂ ← s (p̂ - τ T + FFT(c)), c = the projection correction (clipping, overlap);
-        # p̂ = S·P with the load rescaling s folded into the scalar S
-        r_ = zaxpy(T.ravel(), P.ravel(), a=-tau / S)  # in place, one pass
-        if not np.may_share_memory(r_, P):  # f2py copied (non-contiguous input)
-            P[...] = r_.reshape(P.shape)
         if changed or ov.size:
-            pov = -tau * (buf.take(ov) - gbar)
-            P += fwd_sparse(np.concatenate([idx[clipped], ov]),
-                            np.concatenate([-pc[clipped], pov]) / S)
+            # the projection correction c (c = -p on clipped cells, the overlap-driven
+            # pressure on joining cells) folded into the step: D = FFT(t - c/τ), p̂ ← p̂ - τD
+            out = idx[clipped]
+            pov = -tau * (u.take(ov) - w.take(ov) - gbar)
+            rin.put(out, tc[clipped] + pc[clipped] / tau)
+            rin.put(ov, -pov / tau)
+            forwards += 1
+            D = pl.forward_buffer()
+            rin.put(out, 0.0)
             pc[clipped] = 0.0
+        else:
+            D = T
         total = float(pc.sum()) + (float(pov.sum()) if ov.size else 0.0)
         scale = target * n / total if load else 1.0
         if not (np.isfinite(scale) and scale > 0):
             message = f"pressure collapsed at iteration {it}: the load cannot be carried"
             break
         pc *= scale
-        p.put(idx, pc)
         if ov.size:
             pov = pov * scale
-            p.put(ov, pov)
-        if it % refresh == 0:
-            P[...] = fwd(p)
-            rin[...] = 0.0
-            S = 1.0
-        else:
-            S *= scale
-        u = u_from(P, S)
         if changed or ov.size:
             keep = ~clipped
+            inside[out] = False
             idx, tc, pc = idx[keep], tc[keep], pc[keep]
             if ov.size:
+                inside[ov] = True
                 idx = np.concatenate([idx, ov])
                 order = np.argsort(idx, kind="stable")
                 idx = idx[order]
                 tc = np.concatenate([tc, np.zeros(ov.size)])[order]
                 pc = np.concatenate([pc, pov])[order]
             wc = w.take(idx)
+            gc = np.empty(idx.size)
+        if it % refresh == 0:  # exact p̂ from p (no drift of the incremental update)
+            p[:] = 0.0
+            p.put(idx, pc)
+            P = spectrum_of(p)
+            S = 1.0
+            kernels.spectrum_step(P, P, 0.0, kn, S, spec)
+        else:
+            kernels.spectrum_step(P, D, -tau / S, kn, S * scale, spec)
+            S *= scale
+        u = inverse()
         pc_cur = pc
     else:
         message = f"not converged in {maxiter} iterations (error {err:.3e} > tol {tol:.1e})"
+    rin[:] = 0.0
+    p[:] = 0.0
+    p.put(idx, pc_cur)
     delta = gbar if load else float(penetration)
     pairs = 0.5 * (forwards + inverses)
     return p.reshape(shape), u.reshape(shape).copy(), delta, it, converged, message, pairs

@@ -1,0 +1,180 @@
+"""Fused inner loops of the Polonsky–Keer iteration (:func:`spectralbem.contact.polonsky_keer`).
+
+At 1024² and above one PK iteration is memory-bound outside its FFTs: numpy needs one full
+pass per operation (a subtraction, a minimum, a mask, a product, ...).  These three loops
+read each array once.  They are compiled with numba (``cache=True``: the first call in a fresh
+checkout compiles for ~1 s, later processes load the cache); without numba, or with
+``SPECTRALBEM_JIT=0``, the same functions run as numpy expressions (identical results up to
+the summation order, slower).  ``backend()`` tells which is in use.
+
+* :func:`parseval_sum` — ``Σ_q w_q |T_q|²`` over a half spectrum: ⟨C t, t⟩ by Parseval.
+* :func:`spectrum_step` — ``P ← P + a·D`` and ``out = (s·k)·P`` in one pass (the pressure
+  spectrum update and the kernel product that feeds the inverse transform).
+* :func:`gap_scan` — outside the contact set: the minimum of ``u − w`` and the cells where
+  ``u − w < level`` (the overlap test of PK).
+* :func:`contact_gap` — on the contact set: the gap, its mean (load control) and the sums
+  of the PK error and step.
+* :func:`direction` — the conjugate direction, written into the FFT input as well.
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+from scipy.linalg.blas import zaxpy
+
+_WANT_JIT = os.environ.get("SPECTRALBEM_JIT", "1").lower() not in ("0", "false", "no")
+
+try:  # pragma: no cover - exercised through backend()
+    if not _WANT_JIT:
+        raise ImportError
+    import numba
+except ImportError:  # pragma: no cover
+    numba = None
+
+
+def backend() -> str:
+    """'numba' or 'numpy'."""
+    return "numba" if numba is not None else "numpy"
+
+
+# -- numpy versions (the reference the compiled loops are tested against) ----------------------
+def parseval_sum_numpy(T: np.ndarray, w: np.ndarray) -> float:
+    Tv = T.reshape(-1).view(np.float64)
+    return float(np.einsum("i,i->", np.repeat(w.reshape(-1), 2), Tv * Tv))
+
+
+def spectrum_step_numpy(P, D, a, k, s, out) -> None:
+    r = zaxpy(D.reshape(-1), P.reshape(-1), a=a)  # in place when P is contiguous
+    if not np.may_share_memory(r, P):
+        P[...] = r.reshape(P.shape)
+    np.multiply(P, k * s, out=out)
+
+
+def gap_scan_numpy(u, w, inside, level, out_index):
+    d = u - w
+    d[inside] = np.inf
+    ov = np.flatnonzero(d < level)
+    out_index[: ov.size] = ov
+    return float(d.min()), int(ov.size)
+
+
+def contact_gap_numpy(u, idx, wc, pc, load, gc):
+    np.subtract(u.take(idx), wc, out=gc)
+    gbar = float(gc.mean()) if load else 0.0
+    gc -= gbar
+    return gbar, float(np.dot(pc, np.abs(gc))), float(pc.sum()), float(np.dot(gc, gc))
+
+
+def direction_numpy(gc, tc, beta, load, rin, idx):
+    tc *= beta
+    tc += gc
+    if load:
+        tc -= tc.mean()
+    rin.put(idx, tc)
+    return float(np.dot(gc, tc))
+
+
+if numba is not None:
+    _jit = numba.njit(cache=True, nogil=True)
+
+    @_jit
+    def _parseval_sum(T, w):  # pragma: no cover - compiled
+        s = 0.0
+        for i in range(w.size):
+            z = T[i]
+            s += w[i] * (z.real * z.real + z.imag * z.imag)
+        return s
+
+    @_jit
+    def _spectrum_step(P, D, a, k, s, out):  # pragma: no cover - compiled
+        for i in range(k.size):
+            v = P[i] + a * D[i]
+            P[i] = v
+            out[i] = (s * k[i]) * v
+
+    @_jit
+    def _gap_scan(u, w, inside, level, out_index):  # pragma: no cover - compiled
+        m = np.inf
+        n = 0
+        for i in range(u.size):
+            if inside[i]:
+                continue
+            d = u[i] - w[i]
+            if d < m:
+                m = d
+            if d < level:
+                out_index[n] = i
+                n += 1
+        return m, n
+
+    @_jit
+    def _contact_gap(u, idx, wc, pc, load, gc):  # pragma: no cover - compiled
+        n = idx.size
+        s = 0.0
+        for k in range(n):
+            g = u[idx[k]] - wc[k]
+            gc[k] = g
+            s += g
+        gbar = s / n if (load and n > 0) else 0.0
+        e = 0.0
+        ps = 0.0
+        G = 0.0
+        for k in range(n):
+            g = gc[k] - gbar
+            gc[k] = g
+            e += pc[k] * abs(g)
+            ps += pc[k]
+            G += g * g
+        return gbar, e, ps, G
+
+    @_jit
+    def _direction(gc, tc, beta, load, rin, idx):  # pragma: no cover - compiled
+        n = idx.size
+        s = 0.0
+        for k in range(n):
+            t = gc[k] + beta * tc[k]
+            tc[k] = t
+            s += t
+        m = s / n if (load and n > 0) else 0.0
+        d = 0.0
+        for k in range(n):
+            t = tc[k] - m
+            tc[k] = t
+            rin[idx[k]] = t
+            d += gc[k] * t
+        return d
+
+    def contact_gap(u, idx, wc, pc, load, gc):
+        """On the contact set ``idx``: gc = u[idx] − wc − ḡ (ḡ its mean under load control,
+        else 0), written in place; returns (ḡ, Σ pc|gc|, Σ pc, Σ gc²)."""
+        return _contact_gap(u, idx, wc, pc, bool(load), gc)
+
+    def direction(gc, tc, beta, load, rin, idx):
+        """tc ← gc + β·tc (mean-free under load control), in place, also written to
+        ``rin[idx]``; returns ⟨gc, tc⟩."""
+        return float(_direction(gc, tc, float(beta), bool(load), rin, idx))
+
+    def parseval_sum(T: np.ndarray, w: np.ndarray) -> float:
+        """Σ w |T|² for a complex half spectrum T and real weights w of the same shape."""
+        return float(_parseval_sum(T.reshape(-1), w.reshape(-1)))
+
+    def spectrum_step(P, D, a, k, s, out) -> None:
+        """P ← P + a·D (in place) and out = s·k·P, in one pass (contiguous arrays)."""
+        if not (P.flags.c_contiguous and out.flags.c_contiguous):
+            raise ValueError("spectrum_step needs C-contiguous P and out (updated in place)")
+        _spectrum_step(P.reshape(-1), D.reshape(-1), float(a), k.reshape(-1), float(s),
+                       out.reshape(-1))
+
+    def gap_scan(u, w, inside, level, out_index):
+        """(min of u − w where not ``inside``, number n of such cells with u − w < level);
+        their flat indices are written to ``out_index[:n]`` in increasing order."""
+        m, n = _gap_scan(u, w, inside, float(level), out_index)
+        return float(m), int(n)
+else:  # pragma: no cover - the numpy build
+    parseval_sum = parseval_sum_numpy
+    spectrum_step = spectrum_step_numpy
+    gap_scan = gap_scan_numpy
+    contact_gap = contact_gap_numpy
+    direction = direction_numpy

@@ -1,0 +1,114 @@
+"""The fused PK loops of spectralbem.kernels against their numpy definitions, and the PK
+solution with the compiled loops against the one with the numpy loops."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from spectralbem import contact, kernels
+from spectralbem.materials import Elastic
+from spectralbem.spectral import Cell, SpectralOperator
+from spectralbem.surfaces import self_affine
+
+shapes = st.tuples(st.integers(1, 40), st.integers(1, 40))
+
+
+def test_backend_is_compiled():
+    # numba is a runtime dependency: the fast path must be the one that runs
+    assert kernels.backend() == "numba"
+
+
+@settings(max_examples=30, deadline=None)
+@given(shape=shapes, seed=st.integers(0, 2**31))
+def test_parseval_sum(shape, seed):
+    rng = np.random.default_rng(seed)
+    T = rng.normal(size=shape) + 1j * rng.normal(size=shape)
+    w = rng.random(shape)
+    # a sum of len(w) positive terms: summation order changes it by ≤ len·eps relative
+    assert kernels.parseval_sum(T, w) == pytest.approx(
+        float(np.sum(w * np.abs(T) ** 2)), rel=1e-13)
+    assert kernels.parseval_sum_numpy(T, w) == pytest.approx(
+        float(np.sum(w * np.abs(T) ** 2)), rel=1e-13)
+
+
+@settings(max_examples=30, deadline=None)
+@given(shape=shapes, seed=st.integers(0, 2**31), a=st.floats(-10, 10), s=st.floats(0.1, 10))
+def test_spectrum_step(shape, seed, a, s):
+    rng = np.random.default_rng(seed)
+    P = rng.normal(size=shape) + 1j * rng.normal(size=shape)
+    D = rng.normal(size=shape) + 1j * rng.normal(size=shape)
+    k = rng.random(shape)
+    expect_P = P + a * D
+    for step in (kernels.spectrum_step, kernels.spectrum_step_numpy):
+        P1, out = P.copy(), np.empty_like(P)
+        step(P1, D, a, k, s, out)
+        # element-wise arithmetic: one or two roundings (BLAS may fuse multiply-adds)
+        np.testing.assert_allclose(P1, expect_P, rtol=1e-14, atol=1e-14)
+        np.testing.assert_allclose(out, s * k * expect_P, rtol=1e-14, atol=1e-14)
+
+
+def test_spectrum_step_rejects_a_strided_view():
+    P = np.zeros((8, 10), dtype=complex)[:, ::2]
+    with pytest.raises(ValueError, match="contiguous"):
+        kernels.spectrum_step(P, P, 1.0, np.ones((8, 5)), 1.0, np.empty((8, 5), complex))
+
+
+@settings(max_examples=30, deadline=None)
+@given(n=st.integers(1, 500), seed=st.integers(0, 2**31), level=st.floats(-1, 1))
+def test_gap_scan(n, seed, level):
+    rng = np.random.default_rng(seed)
+    u, w = rng.normal(size=n), rng.normal(size=n)
+    inside = rng.random(n) < 0.3
+    d = np.where(inside, np.inf, u - w)
+    for scan in (kernels.gap_scan, kernels.gap_scan_numpy):
+        out = np.full(n, -1, dtype=np.intp)
+        m, k = scan(u, w, inside, level, out)
+        assert m == d.min()  # exact: the same subtractions, a minimum
+        np.testing.assert_array_equal(out[:k], np.flatnonzero(d < level))
+
+
+@settings(max_examples=30, deadline=None)
+@given(n=st.integers(1, 300), seed=st.integers(0, 2**31), load=st.booleans(),
+       beta=st.floats(0, 5))
+def test_contact_gap_and_direction(n, seed, load, beta):
+    rng = np.random.default_rng(seed)
+    m = 2 * n
+    u, w = rng.normal(size=m), rng.normal(size=m)
+    idx = np.sort(rng.choice(m, size=n, replace=False))
+    pc, tc0 = rng.random(n), rng.normal(size=n)
+    g = u[idx] - w[idx]
+    gbar = g.mean() if load else 0.0
+    g = g - gbar
+    t = g + beta * tc0
+    if load:
+        t = t - t.mean()
+    # sums of ≤ 300 O(1) terms in another order: agreement to 1e-12 absolute
+    for gap, dirn in ((kernels.contact_gap, kernels.direction),
+                      (kernels.contact_gap_numpy, kernels.direction_numpy)):
+        gc = np.empty(n)
+        r = gap(u, idx, w[idx], pc, load, gc)
+        np.testing.assert_allclose(r, (gbar, pc @ np.abs(g), pc.sum(), g @ g), rtol=1e-12,
+                                   atol=1e-12)
+        np.testing.assert_allclose(gc, g, atol=1e-12)
+        tc, rin = tc0.copy(), np.zeros(m)
+        d = dirn(gc, tc, beta, load, rin, idx)
+        np.testing.assert_allclose(tc, t, atol=1e-12)
+        assert d == pytest.approx(g @ t, rel=1e-12, abs=1e-12)
+        np.testing.assert_array_equal(rin[idx], tc)
+        assert not np.any(np.delete(rin, idx))
+
+
+def test_pk_same_with_numpy_loops(monkeypatch):
+    cell = Cell(1.0, 1.0, 64, 64)
+    h = self_affine(cell, 0.8, rolloff=2 * np.pi * 4, cutoff=2 * np.pi / (4 * cell.hx),
+                    rms_slope=0.1, seed=3)
+    op = SpectralOperator(cell, Elastic(1.0, 0.3))
+    fast = contact.polonsky_keer(op, h, mean_pressure=0.004, tol=1e-12)
+    for name in ("parseval_sum", "spectrum_step", "gap_scan", "contact_gap", "direction"):
+        monkeypatch.setattr(kernels, name, getattr(kernels, f"{name}_numpy"))
+    slow = contact.polonsky_keer(op, h, mean_pressure=0.004, tol=1e-12)
+    assert fast[4] and slow[4]
+    np.testing.assert_array_equal(fast[0] > 0, slow[0] > 0)
+    # both converged to 1e-12 complementarity; the two runs differ only by summation order
+    assert np.linalg.norm(fast[0] - slow[0]) <= 1e-9 * np.linalg.norm(fast[0])

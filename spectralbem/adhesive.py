@@ -67,18 +67,36 @@ def unresolved_patches(mask: np.ndarray, a0_cells: float) -> int:
     return int(np.sum(sizes < np.pi * a0_cells**2))
 
 
-def _neighbour_mean(field_: np.ndarray, where: np.ndarray) -> np.ndarray:
-    """Mean of ``field_`` over the 4-neighbours where ``where`` holds (nan if none)."""
-    f = np.where(where & np.isfinite(field_), field_, 0.0)
-    c = (where & np.isfinite(field_)).astype(float)
-    s = np.zeros_like(f)
-    n = np.zeros_like(f)
-    for ax in (0, 1):
-        for sh in (1, -1):
-            s += np.roll(f, sh, axis=ax)
-            n += np.roll(c, sh, axis=ax)
+def _neighbour_mean(field_: np.ndarray, where: np.ndarray, at: np.ndarray) -> np.ndarray:
+    """Mean of ``field_`` over the 4-neighbours (periodic) where ``where`` holds and the
+    field is finite, at the flat indices ``at`` (nan where there is none)."""
+    nx, ny = field_.shape
+    i, j = np.divmod(at, ny)
+    f, wh = field_.ravel(), where.ravel()
+    s = np.zeros(at.size)
+    c = np.zeros(at.size)
+    for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+        k = ((i + di) % nx) * ny + (j + dj) % ny
+        v = f[k]
+        ok = wh[k] & np.isfinite(v)
+        s += np.where(ok, v, 0.0)
+        c += ok
     with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(n > 0, s / n, np.nan)
+        return np.where(c > 0, s / c, np.nan)
+
+
+def _offsets(F_close, F_open, outer, inner, a0):
+    """Sub-cell offsets of the balanced edge (criterion.sub_cell_offset) on the outer front
+    cells (closing test there, opening tests of the neighbouring inner cells) and on the
+    inner front cells (the other way round); nan elsewhere."""
+    s_out = np.full(F_close.shape, np.nan)
+    s_in = np.full(F_close.shape, np.nan)
+    io, ii = np.flatnonzero(outer), np.flatnonzero(inner)
+    s_out.ravel()[io] = sub_cell_offset(F_close.ravel()[io],
+                                        _neighbour_mean(F_open, inner, io), a0)
+    s_in.ravel()[ii] = sub_cell_offset(_neighbour_mean(F_close, outer, ii),
+                                       F_open.ravel()[ii], a0)
+    return s_out, s_in
 
 
 def _nucleation_flaw(op, h, mean_pressure, penetration, a0):
@@ -178,7 +196,9 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
                 break
             p1 = r1.field
             delta = (mean_pressure * mask.size - rw.field.sum()) / p1.sum()
-            p = rw.field + delta * p1
+            p = rw.field
+            p += delta * p1  # in place: rw's field becomes p
+            rw = r1 = None
         else:
             res = solve_masked(op, mask, h - hmax + delta, x0=p, rtol=rtol)
             solves += 1
@@ -188,8 +208,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
             p = res.field
         w = h - hmax + delta
         u = op.apply(p)
-        g = u - w
-        pen = ~mask & (g < -1e-12 * max(1.0, float(np.abs(w).max())))
+        pen = ~mask & (u - w < -1e-12 * max(1.0, float(np.abs(w).max())))
         if pen.any():  # contact nucleation (JKR jump-in)
             # a cell the criterion just opened that interpenetrates at the new Δ (load
             # control) cannot open: it stays closed (pinned) for the rest of this solve
@@ -204,23 +223,25 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
             message = "layer test: " + tests.message
             break
         outer, inner = front_cells(mask)
-        s_out = sub_cell_offset(tests.F_close, _neighbour_mean(tests.F_open, inner), a0)
-        s_in = sub_cell_offset(_neighbour_mean(tests.F_close, outer), tests.F_open, a0)
+        s_out, s_in = _offsets(tests.F_close, tests.F_open, outer, inner, a0)
         # dead band of ±0.6 h: the outputs use the sub-cell front l*, so the cell boundary only
         # has to lie near it; a band wider than ½ h stops two-state lattice cycles (under load
         # control the Δ update couples the edges)
         # a band cell at distance d from the front joins (leaves) when its front cell's
         # balanced edge lies beyond d - (1 - DEAD_BAND) h: up to m layers per iteration
         b = tests.bands
-        so = np.where(b.outer_owner >= 0, s_out.ravel()[np.maximum(b.outer_owner, 0)], np.nan)
-        si = np.where(b.inner_owner >= 0, s_in.ravel()[np.maximum(b.inner_owner, 0)], np.nan)
         slack = (1.0 - DEAD_BAND) * hmin
-        add = b.outer_band & (so > b.outer_dist - slack)
+        ob = np.flatnonzero(b.outer_band)  # band cells, each with its owning front cell
+        add = np.zeros(mask.shape, bool)
+        add.ravel()[ob] = (s_out.ravel()[b.outer_owner.ravel()[ob]]
+                           > b.outer_dist.ravel()[ob] - slack)
         # a cell opens only where its opening leaves a gap (no interpenetration): otherwise
         # the nucleation step would close it again at once (an open/close cycle)
         gtol = 1e-12 * max(1.0, float(np.abs(w).max()))
-        remove = (b.inner_band & (si < -(b.inner_dist - slack)) & ~(tests.g_open < -gtol)
-                  & ~pinned)
+        ib = np.flatnonzero(b.inner_band & ~pinned & ~(tests.g_open < -gtol))
+        remove = np.zeros(mask.shape, bool)
+        remove.ravel()[ib] = (s_in.ravel()[b.inner_owner.ravel()[ib]]
+                              < -(b.inner_dist.ravel()[ib] - slack))
         history.append((it, int(mask.sum()), int(add.sum()), int(remove.sum()), float(delta)))
         if not add.any() and not remove.any():
             converged, status, message = True, "partial", "converged"
@@ -235,7 +256,8 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
             flips = np.zeros(cell.shape, bool)
             for k in range(seen[key], it):
                 if k in states:
-                    flips |= states[k] ^ mask
+                    flips |= np.unpackbits(states[k], count=mask.size).reshape(
+                        mask.shape).astype(bool) ^ mask
             flip_frac = flips.sum() / max(1, int(outer.sum() + inner.sum()))
             period = it - seen[key]
             if within >= CYCLE_ACCEPT or flip_frac <= 1.0 - CYCLE_ACCEPT:
@@ -250,13 +272,15 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
                            f"{100 * flip_frac:.1f} % of the front flips)")
             break
         seen[key] = it
-        states[it] = mask.copy()
+        states[it] = np.packbits(mask)  # 1 bit per cell
         states.pop(it - 12, None)  # cycles longer than a dozen states are not accepted
         seen = {k_: v for k_, v in seen.items() if v > it - 12}
         if it == max_outer:  # keep the state (mask, p, tests) consistent: no last move
             message = f"not converged in {max_outer} outer iterations"
             break
         mask = (mask | add) & ~remove
+        # the tests and bands of the old mask: freed before the next state's solves
+        tests = b = s_in = add = None
         last_removed = remove
     else:  # the guard ran out on a nucleation step
         message = f"not converged in {max_outer} outer iterations"

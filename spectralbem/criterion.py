@@ -50,7 +50,8 @@ def _wrap_edt(free: np.ndarray, sampling, pad: int):
     big = np.pad(free, ((px, px), (py, py)), mode="wrap")
     dist, (ix, iy) = ndimage.distance_transform_edt(big, sampling=sampling, return_indices=True)
     sl = (slice(px, px + nx), slice(py, py + ny))
-    return dist[sl], (ix[sl] - px) % nx, (iy[sl] - py) % ny
+    # copies, so that the padded arrays are freed (views would keep them alive)
+    return dist[sl].copy(), (ix[sl] - px) % nx, (iy[sl] - py) % ny
 
 
 def front_cells(mask: np.ndarray):
@@ -77,9 +78,25 @@ class Bands:
     inner_owner: np.ndarray
     outer_front: np.ndarray
     inner_front: np.ndarray
-    normal: tuple  # outward unit normal (nx, ny) on the outer and inner front cells
     outer_dist: np.ndarray  # distance of an outside cell centre to A (m)
     inner_dist: np.ndarray  # distance of a cell of A to the outside (m)
+    mask: np.ndarray  # the contact mask A the bands belong to
+    spacing: tuple  # (hx, hy)
+
+    @property
+    def normal(self) -> tuple:
+        """Outward unit normal (nx, ny) of A from a smoothed indicator (σ ≈ 2 cells), on the
+        whole grid (meaningful on the front cells); computed on demand (two N² arrays)."""
+        hx, hy = self.spacing
+        sm = ndimage.gaussian_filter(self.mask.astype(float), sigma=(2.0, 2.0), mode="wrap")
+        gx = (np.roll(sm, -1, 0) - np.roll(sm, 1, 0)) / (2 * hx)
+        gy = (np.roll(sm, -1, 1) - np.roll(sm, 1, 1)) / (2 * hy)
+        del sm
+        nrm = np.hypot(gx, gy)
+        nrm[nrm == 0] = 1.0
+        gx /= -nrm
+        gy /= -nrm
+        return gx, gy
 
 
 def layers(a0: float, hx: float, hy: float) -> int:
@@ -97,27 +114,24 @@ def bands(mask: np.ndarray, hx: float, hy: float, a0: float) -> Bands:
     d_out, _, _ = _wrap_edt(~mask, (hx, hy), pad)
     outer_band = ~mask & (d_out <= a0 + tol)
     _, ox, oy = _wrap_edt(~outer_front, (hx, hy), pad)
-    outer_owner = np.where(outer_band, np.ravel_multi_index((ox, oy), mask.shape), -1)
+    itype = np.int32 if mask.size < 2**31 else np.int64  # owner indices: half the memory
+    outer_owner = np.where(outer_band, np.ravel_multi_index((ox, oy), mask.shape), -1
+                           ).astype(itype)
     d_in, _, _ = _wrap_edt(mask, (hx, hy), pad)
     inner_band = mask & (d_in <= a0 + tol)
     _, ix, iy = _wrap_edt(~inner_front, (hx, hy), pad)
-    inner_owner = np.where(inner_band, np.ravel_multi_index((ix, iy), mask.shape), -1)
-    # outward normal from a smoothed indicator (σ ≈ 2 cells)
-    sm = ndimage.gaussian_filter(mask.astype(float), sigma=(2.0, 2.0), mode="wrap")
-    gx = (np.roll(sm, -1, 0) - np.roll(sm, 1, 0)) / (2 * hx)
-    gy = (np.roll(sm, -1, 1) - np.roll(sm, 1, 1)) / (2 * hy)
-    nrm = np.hypot(gx, gy)
-    nrm[nrm == 0] = 1.0
-    normal = (-gx / nrm, -gy / nrm)
+    inner_owner = np.where(inner_band, np.ravel_multi_index((ix, iy), mask.shape), -1
+                           ).astype(itype)
     return Bands(outer_band, outer_owner, inner_band, inner_owner, outer_front, inner_front,
-                 normal, d_out, d_in)
+                 d_out, d_in, mask.copy(), (hx, hy))
 
 
 def colours(b: Bands, vhat, viscoelastic: bool):
     """Front colours: one for elastic scenes, trailing/leading (v̂·n < 0 / ≥ 0) otherwise."""
     if not viscoelastic:
         return [np.ones(b.outer_front.shape, bool)]
-    vn = b.normal[0] * vhat[0] + b.normal[1] * vhat[1]
+    nx, ny = b.normal
+    vn = nx * vhat[0] + ny * vhat[1]
     return [vn < 0, vn >= 0]
 
 
@@ -139,23 +153,18 @@ class FrontTest:
     message: str
 
 
-def _aggregate(values, owner, n):
-    """Sum of values per owning flat index."""
-    sel = owner >= 0
-    return np.bincount(owner[sel], weights=values[sel], minlength=n)
-
-
-def _balance(dL, band, owner, dg_area, F, W):
+def _balance(dL, cells, owner, dg_area, F, W):  # dg_area: Δγ·a on ``cells``
     """Per owning front cell: F = Σ δL / Σ Δγ a - 1 over its band cells, W = Σ Δγ a (the
-    weight of the ratio of sums along the front); fills F and W in place, returns (Σ δL per
-    owner, owners with band cells)."""
-    own = np.where(band.ravel(), owner, -1)
-    num = _aggregate(dL.ravel(), own, F.size)
-    den = _aggregate(dg_area.ravel(), own, F.size)
+    weight of the ratio of sums along the front).  ``dL`` holds the work of the band cells
+    ``cells`` (flat indices), ``owner`` their front cells; fills F and W in place and returns
+    (owners with Δγ > 0 in their band, Σ δL per owner, the inverse map cell → owner slot)."""
+    owners, slot = np.unique(owner, return_inverse=True)
+    num = np.bincount(slot, weights=dL, minlength=owners.size)
+    den = np.bincount(slot, weights=dg_area, minlength=owners.size)
     has = den > 0
-    F.ravel()[has] = num[has] / den[has] - 1.0
-    W.ravel()[has] = den[has]
-    return num, has
+    F.ravel()[owners[has]] = num[has] / den[has] - 1.0
+    W.ravel()[owners[has]] = den[has]
+    return owners, num, has, slot
 
 
 def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.ndarray,
@@ -173,16 +182,18 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     observables = observables or {}
 
     def observe(q):
-        return {k: float(np.sum(q * f)) for k, f in observables.items()}
+        return {k: float(np.vdot(q, np.broadcast_to(f, q.shape))) for k, f in observables.items()}
 
     cell = op.cell
     area = cell.cell_area
-    n = mask.size
-    dg = np.broadcast_to(np.asarray(dgamma, dtype=float), mask.shape)
+    dg = np.asarray(dgamma, dtype=float)
+
+    def dg_area(cells):  # Δγ·a on the cells (a scalar Δγ is never expanded to the grid)
+        return area * (dg.ravel()[cells] if dg.ndim else np.full(cells.size, float(dg)))
+
     b = bands(mask, cell.hx, cell.hy, a0)
     if u is None:
         u = op.apply(p)
-    g = u - w
     F_close = np.full(mask.shape, np.nan)
     F_open = np.full(mask.shape, np.nan)
     g_open = np.full(mask.shape, np.nan)
@@ -215,20 +226,25 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             if not res.converged:
                 msg = res.message
             pp = res.field
-            dL = np.where(D, 0.5 * g * (-pp) * area, 0.0)
+            cells = np.flatnonzero(D)
+            ppD = pp.ravel()[cells]
+            # Eq. (8) on the band: δL_j = ½ g_j(A) t_j(A ∪ D) a, with t = -p
+            dL = -0.5 * area * (u.ravel()[cells] - w.ravel()[cells]) * ppD
             # Eqs. (9), (10) for the whole layer, with the actual fields u = C p
             up = op.apply(pp)
-            dU = 0.5 * area * (np.sum(pp * up) - np.sum(p * u))
-            dLP = 0.5 * area * (np.sum(up * p) - np.sum(u * pp))
-            closing[ci] = (float(dL.sum()), float(dU), float(dLP), float(D.sum() * area),
+            dU = 0.5 * area * (np.vdot(pp, up) - np.vdot(p, u))
+            dLP = 0.5 * area * (np.vdot(up, p) - np.vdot(u, pp))
+            closing[ci] = (float(dL.sum()), float(dU), float(dLP), float(cells.size * area),
                            observe(pp))
-            num, has = _balance(dL, D, own, dg * area, F_close, W_close)
+            owners, num, has, slot = _balance(dL, cells, own[cells], dg_area(cells), F_close,
+                                              W_close)
             # per-cell δL_P from the adjoint weights (criterion.md §4.6); zero when elastic
-            dLPj = np.where(D, area * pp * psi, 0.0) if psi is not None else np.zeros(D.shape)
-            dLP_cells += dLPj
-            numP = _aggregate(dLPj.ravel(), np.where(D.ravel(), own, -1), n)
-            areas = _aggregate(np.full(n, area), np.where(D.ravel(), own, -1), n)
-            G_close.ravel()[has] = (num[has] - numP[has]) / areas[has]
+            dLPj = area * ppD * psi.ravel()[cells] if psi is not None else np.zeros(cells.size)
+            dLP_cells.ravel()[cells] += dLPj
+            numP = np.bincount(slot, weights=dLPj, minlength=owners.size)
+            areas = area * np.bincount(slot, minlength=owners.size)
+            G_close.ravel()[owners[has]] = (num[has] - numP[has]) / areas[has]
+            del res, pp, up  # memory: one layer state at a time
         # opening: the inner band of this colour removed
         own_i = b.inner_owner.ravel()
         R = (own_i >= 0) & col_flat[np.maximum(own_i, 0)]
@@ -245,14 +261,17 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             else:  # the band is the whole contact: opening it detaches (no stress left)
                 pr = np.zeros_like(p)
                 ur = np.zeros_like(u)
-            gr = ur - w
-            g_open[R] = gr[R]
-            dL = np.where(R, 0.5 * gr * (-p) * area, 0.0)
-            dU = 0.5 * area * (np.sum(p * u) - np.sum(pr * ur))
-            dLP = 0.5 * area * (np.sum(u * pr) - np.sum(ur * p))
-            opening[ci] = (float(dL.sum()), float(dU), float(dLP), float(R.sum() * area),
+            cells = np.flatnonzero(R)
+            gr = ur.ravel()[cells] - w.ravel()[cells]
+            g_open.ravel()[cells] = gr
+            dL = -0.5 * area * gr * p.ravel()[cells]
+            dU = 0.5 * area * (np.vdot(p, u) - np.vdot(pr, ur))
+            dLP = 0.5 * area * (np.vdot(u, pr) - np.vdot(ur, p))
+            opening[ci] = (float(dL.sum()), float(dU), float(dLP), float(cells.size * area),
                            observe(pr))
-            _balance(dL, R, own_i, dg * area, F_open, W_open)
+            _balance(dL, cells, own_i[cells], dg_area(cells), F_open, W_open)
+            del pr, ur
+            res = None
     # ratio of sums along the front: each front cell weighs by its band's Δγ·area, so that
     # owners of unequal band patches (staircase corners) do not bias the local balance
     F_close = smooth_along_front(F_close, b.outer_front, front_smoothing, W_close)
@@ -288,12 +307,14 @@ def smooth_along_front(F: np.ndarray, front: np.ndarray, sigma: float,
         return F
     ok = front & np.isfinite(F)
     wt = np.where(ok, 1.0 if weights is None else weights, 0.0)
-    num = ndimage.gaussian_filter(np.where(ok, F, 0.0) * wt, sigma, mode="wrap")
-    den = ndimage.gaussian_filter(wt, sigma, mode="wrap")
-    out = np.full(F.shape, np.nan)
-    sel = ok & (den > 0)
-    out[sel] = num[sel] / den[sel]
-    return out
+    num = np.where(ok, F, 0.0)
+    num *= wt
+    ndimage.gaussian_filter(num, sigma, mode="wrap", output=num)  # in place: two N² arrays
+    ndimage.gaussian_filter(wt, sigma, mode="wrap", output=wt)
+    sel = ok & (wt > 0)
+    num[sel] /= wt[sel]
+    num[~sel] = np.nan
+    return num
 
 
 def sub_cell_offset(F_close, F_open, a0: float):

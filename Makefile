@@ -34,7 +34,7 @@ bench: $(STAMP)
 	$(BIN)/python bench/run.py
 	$(BIN)/python bench/krylov.py
 	$(BIN)/python bench/scaling.py
-	$(BIN)/python bench/sphere.py 512 12 6
+	$(BIN)/python bench/sphere.py 512 default 6
 
 figures: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python cases/figures_1d.py

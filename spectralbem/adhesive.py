@@ -24,7 +24,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .contact import sliding_direction
-from .criterion import FRONT_SMOOTHING, front_cells, front_tests, layers, sub_cell_offset
+from .criterion import (
+    FRONT_SMOOTHING,
+    SMOOTHING_PER_RADIUS,
+    front_cells,
+    front_tests,
+    layers,
+    sub_cell_offset,
+)
 from .masked import solve_masked
 from .spectral import SpectralOperator
 from .surfaces import check_heights
@@ -124,12 +131,15 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
                    penetration: float | None = None, mean_pressure: float | None = None,
                    mask0: np.ndarray | None = None, max_outer: int = 500,
                    front_smoothing: float = FRONT_SMOOTHING,
+                   smoothing_per_radius: float = SMOOTHING_PER_RADIUS,
                    rtol: float = 1e-10, observables: dict | None = None) -> AdhesiveResult:
     """Adhesive equilibrium under penetration or mean-pressure control.
 
     ``dgamma``: work of adhesion Δγ (J/m², scalar or per-cell map); ``a0``: advance width (m),
     at least one cell.  ``front_smoothing``: σ (cells) of the average along the front
-    (criterion.smooth_along_front, default :data:`criterion.FRONT_SMOOTHING`).
+    (criterion.smooth_along_front, default :data:`criterion.FRONT_SMOOTHING`), raised to
+    ``smoothing_per_radius`` times the equivalent radius of large contact patches
+    (criterion.patch_sigmas; 0 keeps σ fixed).
     """
     cell = op.cell
     h = check_heights(heights, cell)
@@ -217,6 +227,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
             continue
         tests = front_tests(op, w, mask, p, dgamma, a0, rtol=rtol, vhat=vhat,
                             front_smoothing=front_smoothing,
+                            smoothing_per_radius=smoothing_per_radius,
                             observables=observables, u=u)
         solves += tests.solves
         if not tests.converged:

@@ -68,7 +68,8 @@ class Scene:
     spec: dict = field(default_factory=dict)  # the normalised scene mapping (for the dataset)
     solver: dict = field(default_factory=lambda: {"tol": 1e-10, "max_iterations": 10000,
                                                   "max_outer": 500, "threads": 1,
-                                                  "front_smoothing": 6.0})
+                                                  "front_smoothing": 6.0,
+                                                  "smoothing_per_radius": 0.23})
     fields: bool = True
     control: tuple = ()
 
@@ -383,7 +384,8 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
         r = solve_adhesive(op, h, scene.dgamma, scene.a0, penetration=scene.delta,
                            mean_pressure=scene.p_mean, mask0=mask0, rtol=rtol,
                            observables=obs, max_outer=scene.solver["max_outer"],
-                           front_smoothing=scene.solver.get("front_smoothing", 6.0))
+                           front_smoothing=scene.solver.get("front_smoothing", 6.0),
+                           smoothing_per_radius=scene.solver.get("smoothing_per_radius", 0.23))
         p, mask, delta, status = r.pressure, r.mask, r.penetration, r.status
         a0e = r.a0_effective
         u = op.apply(p)
@@ -522,7 +524,8 @@ def _solve_grid(scene: Scene, mask0=None):
         r = solve_adhesive(op, h, scene.dgamma, scene.a0, penetration=scene.delta,
                            mean_pressure=scene.p_mean, mask0=mask0, rtol=tol,
                            max_outer=scene.solver["max_outer"],
-                           front_smoothing=scene.solver.get("front_smoothing", 6.0))
+                           front_smoothing=scene.solver.get("front_smoothing", 6.0),
+                           smoothing_per_radius=scene.solver.get("smoothing_per_radius", 0.23))
         p, mask, delta, status = r.pressure, r.mask, r.penetration, r.status
         u = op.apply(p)
         msg = r.message

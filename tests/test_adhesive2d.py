@@ -167,6 +167,39 @@ def test_jkr_sphere_radius_loading_and_unloading():
     assert aJ / cell.hx >= 50
     for start in (0.9, 1.1):
         res = solve_adhesive(op, h, w, cell.hx, mean_pressure=0.0, mask0=r < start * aJ,
-                             front_smoothing=JKR_SIGMA)
+                             front_smoothing=JKR_SIGMA, smoothing_per_radius=0.0)
         assert res.status == "partial", res.message
         assert griffith_radius(res, cell) == pytest.approx(aJ, rel=0.01)
+
+
+def test_front_smoothing_grows_with_the_patch_and_stays_on_it():
+    """criterion.patch_sigmas: σ = max(σ0, c·r) per patch (r = √(area/π) in cells), and
+    smooth_along_front averages each σ group over its own front cells only."""
+    from spectralbem import criterion as cr
+
+    n = 256
+    X, Y = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    big = np.hypot(X - 100, Y - 128) < 60
+    small = np.hypot(X - 175, Y - 128) < 10  # 5 cells of gap to the big disc
+    mask = big | small
+    outer, inner = cr.front_cells(mask)
+    s_out, s_in = cr.patch_sigmas(mask, outer, inner, 6.0, 0.23)
+    r_big = np.sqrt(big.sum() / np.pi)
+    sig_in = np.zeros(mask.shape)
+    sig_in.ravel()[s_in["cells"]] = s_in["sigma"]
+    assert np.allclose(sig_in[inner & big], 0.23 * r_big)  # 13.8 cells
+    assert np.all(sig_in[inner & small] == 6.0)  # 0.23·10 < 6: the floor
+    sig_out = np.zeros(mask.shape)
+    sig_out.ravel()[s_out["cells"]] = s_out["sigma"]
+    near_big = outer & (np.hypot(X - 100, Y - 128) < 62)
+    assert np.allclose(sig_out[near_big], 0.23 * r_big)
+    # F = 1 on the small patch's front, 2 on the big one's: per-group averages keep them
+    # apart exactly, one common σ of 13.8 cells would mix them across the 5-cell gap
+    F = np.where(inner & big, 2.0, np.where(inner & small, 1.0, np.nan))
+    sm = cr.smooth_along_front(F, inner, s_in)
+    assert np.allclose(sm[inner & small], 1.0) and np.allclose(sm[inner & big], 2.0)
+    mixed = cr.smooth_along_front(F, inner, 0.23 * r_big)
+    assert mixed[inner & small].max() > 1.05
+    # switched off, or all patches small: one scalar σ
+    assert cr.patch_sigmas(mask, outer, inner, 6.0, 0.0) == (6.0, 6.0)
+    assert cr.patch_sigmas(small, *cr.front_cells(small), 6.0, 0.23) == (6.0, 6.0)

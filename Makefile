@@ -35,6 +35,8 @@ bench: $(STAMP)
 	$(BIN)/python bench/krylov.py
 	$(BIN)/python bench/scaling.py
 	$(BIN)/python bench/sphere.py 512 default 6
+	$(BIN)/python bench/accuracy.py
+	$(BIN)/python bench/sweep2d.py
 
 figures: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python cases/figures_1d.py

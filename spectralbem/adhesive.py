@@ -138,7 +138,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     ``dgamma``: work of adhesion Δγ (J/m², scalar or per-cell map); ``a0``: advance width (m),
     at least one cell.  ``front_smoothing``: σ (cells) of the average along the front
     (criterion.smooth_along_front, default :data:`criterion.FRONT_SMOOTHING`), raised to
-    ``smoothing_per_radius`` times the equivalent radius of large contact patches
+    ``smoothing_per_radius`` times the front radius 2A/P of large contact patches
     (criterion.patch_sigmas; 0 keeps σ fixed).
     """
     cell = op.cell

@@ -111,8 +111,8 @@ SECTIONS = {
         "front_smoothing": _k("number", "σ of the Gaussian average of the energy balance "
                               "along the front (adhesive scenes; more for fine meshes of "
                               "smooth fronts)", "cells", 0, 100, default=6.0),
-        "smoothing_per_radius": _k("number", "σ grows to this fraction of the equivalent "
-                                   "radius of large contact patches (0: σ fixed)", "", 0, 1,
+        "smoothing_per_radius": _k("number", "σ grows to this fraction of the front "
+                                   "radius 2A/P of large contact patches (0: σ fixed)", "", 0, 1,
                                    default=0.23),
     },
     "output": {

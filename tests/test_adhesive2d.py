@@ -173,8 +173,8 @@ def test_jkr_sphere_radius_loading_and_unloading():
 
 
 def test_front_smoothing_grows_with_the_patch_and_stays_on_it():
-    """criterion.patch_sigmas: σ = max(σ0, c·r) per patch (r = √(area/π) in cells), and
-    smooth_along_front averages each σ group over its own front cells only."""
+    """criterion.patch_sigmas: σ = max(σ0, c·r) per patch (r = 2A/P, a disc's radius, in
+    cells), and smooth_along_front averages each σ group over its own front cells only."""
     from spectralbem import criterion as cr
 
     n = 256
@@ -184,15 +184,16 @@ def test_front_smoothing_grows_with_the_patch_and_stays_on_it():
     mask = big | small
     outer, inner = cr.front_cells(mask)
     s_out, s_in = cr.patch_sigmas(mask, outer, inner, 6.0, 0.23)
-    r_big = np.sqrt(big.sum() / np.pi)
+    r_big = 60.0
     sig_in = np.zeros(mask.shape)
     sig_in.ravel()[s_in["cells"]] = s_in["sigma"]
-    assert np.allclose(sig_in[inner & big], 0.23 * r_big)  # 13.8 cells
+    # the digital disc's front radius is its radius to the staircase's ±2 %
+    assert np.allclose(sig_in[inner & big], 0.23 * r_big, rtol=0.02)  # 13.8 cells
     assert np.all(sig_in[inner & small] == 6.0)  # 0.23·10 < 6: the floor
     sig_out = np.zeros(mask.shape)
     sig_out.ravel()[s_out["cells"]] = s_out["sigma"]
     near_big = outer & (np.hypot(X - 100, Y - 128) < 62)
-    assert np.allclose(sig_out[near_big], 0.23 * r_big)
+    assert np.allclose(sig_out[near_big], sig_in[inner & big][0])
     # F = 1 on the small patch's front, 2 on the big one's: per-group averages keep them
     # apart exactly, one common σ of 13.8 cells would mix them across the 5-cell gap
     F = np.where(inner & big, 2.0, np.where(inner & small, 1.0, np.nan))
@@ -203,3 +204,9 @@ def test_front_smoothing_grows_with_the_patch_and_stays_on_it():
     # switched off, or all patches small: one scalar σ
     assert cr.patch_sigmas(mask, outer, inner, 6.0, 0.0) == (6.0, 6.0)
     assert cr.patch_sigmas(small, *cr.front_cells(small), 6.0, 0.23) == (6.0, 6.0)
+    # a convoluted patch of large area (a comb: 60 teeth one cell wide) keeps σ0
+    comb = np.zeros((n, n), bool)
+    comb[20:200, 10:250:4] = True
+    comb[20:22, 10:250] = True
+    assert comb.sum() > big.sum() / 2
+    assert cr.patch_sigmas(comb, *cr.front_cells(comb), 6.0, 0.23) == (6.0, 6.0)

@@ -42,13 +42,14 @@ _CROSS = ndimage.generate_binary_structure(2, 1)
 FRONT_SMOOTHING = 6.0
 
 #: σ grows with the contact patch: σ = max(FRONT_SMOOTHING, SMOOTHING_PER_RADIUS · r) for a
-#: patch of front radius r = 2 area/perimeter (cells; a disc's radius).  With the equivalent
-#: radius √(area/π) instead, the percolating patch of a 256² rough contact at 45 % area got
-#: σ = 22 cells, a lattice cycle and 8 % less area.  Measured: σ = 6 lets the 512²
-#: viscoelastic sphere (55 cells of radius) wander for 311 outer iterations (211-330 s), σ = 12
-#: (= 0.22 r) converges in 36 (20 s); on the JKR disc at 72 cells of radius σ = 6, 12, 18 give
-#: radius errors −0.24, −0.43, −0.62 % (loading).  Patches under 26 cells of front radius
-#: keep σ = 6.  0 switches the growth off.
+#: patch of front radius r = min(2 area/perimeter, perimeter/2π) (cells; a disc's radius).
+#: Measured: σ = 6 lets the 512² viscoelastic sphere (55 cells of radius) wander for 311
+#: outer iterations (211-330 s), σ = 12 (= 0.22 r) converges in 36 (20 s); on the JKR disc at
+#: 72 cells of radius σ = 6, 12, 18 give radius errors −0.24, −0.43, −0.62 % (loading).
+#: With the equivalent radius √(area/π) instead of 2A/P, the percolating patch of a 256²
+#: rough contact at 45 % area got σ = 22 cells, a lattice cycle and 8 % less area; without
+#: the P/2π bound a y-invariant strip got σ in the hundreds (same result, 3× the time).
+#: Patches under 26 cells of front radius keep σ = 6.  0 switches the growth off.
 SMOOTHING_PER_RADIUS = 0.23
 
 
@@ -309,8 +310,9 @@ def adjoint_weights(op: SpectralOperator, mask: np.ndarray, p: np.ndarray,
 
 def patch_sigmas(mask, outer_front, inner_front, sigma: float, per_radius: float):
     """σ (cells) for the outer and inner front cells: σ_patch = max(σ, per_radius · r) with
-    r = 2A/P the front radius (cells) of the contact patch the front cell belongs to (area A,
-    perimeter P; r is the radius of a disc and stays small on a convoluted patch;
+    r = min(2A/P, P/2π) the front radius (cells) of the contact patch the front cell belongs
+    to (area A, perimeter P; r is the radius of a disc and stays small on a convoluted patch
+    and on a short straight front;
     4-connected; an outer front cell belongs to its neighbouring patch of largest σ).
     Returns scalars when every front cell gets σ, else sparse maps {σ_patch: front cells}."""
     if per_radius <= 0:
@@ -320,9 +322,11 @@ def patch_sigmas(mask, outer_front, inner_front, sigma: float, per_radius: float
         return sigma, sigma
     area = np.bincount(lab.ravel(), minlength=n + 1)
     perimeter = np.bincount(lab[inner_front], minlength=n + 1)
-    # front radius 2A/P: the radius for a disc (P counted in inner front cells, 0.89·2πr on
-    # a digital disc), small for a convoluted (rough, percolating) patch of any area
-    r = 2 * 0.89 * area / np.maximum(perimeter, 1)
+    # front radius: 2A/P and P/2π are both the radius for a disc (P counted in inner front
+    # cells, 0.89·2πr on a digital disc); 2A/P is small for a convoluted (rough,
+    # percolating) patch of any area, P/2π for a short straight front (a y-invariant strip,
+    # where σ does not matter and a large one would only cost time)
+    r = np.minimum(2 * 0.89 * area / np.maximum(perimeter, 1), perimeter / (2 * np.pi * 0.89))
     sig = np.maximum(sigma, per_radius * r)
     sig[0] = sigma
     if not np.any(sig[1:] > sigma):

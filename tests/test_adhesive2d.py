@@ -210,3 +210,7 @@ def test_front_smoothing_grows_with_the_patch_and_stays_on_it():
     comb[20:22, 10:250] = True
     assert comb.sum() > big.sum() / 2
     assert cr.patch_sigmas(comb, *cr.front_cells(comb), 6.0, 0.23) == (6.0, 6.0)
+    # so does a wide strip across a thin cell (a y-invariant sinusoid's contact, N × 2)
+    strip = np.zeros((4096, 2), bool)
+    strip[1000:3000] = True
+    assert cr.patch_sigmas(strip, *cr.front_cells(strip), 6.0, 0.23) == (6.0, 6.0)

@@ -112,3 +112,39 @@ def test_pk_same_with_numpy_loops(monkeypatch):
     np.testing.assert_array_equal(fast[0] > 0, slow[0] > 0)
     # both converged to 1e-12 complementarity; the two runs differ only by summation order
     assert np.linalg.norm(fast[0] - slow[0]) <= 1e-9 * np.linalg.norm(fast[0])
+
+
+def test_pk_with_numpy_fft_and_numpy_loops_in_a_fresh_process(tmp_path):
+    """The fallbacks chosen at import (SPECTRALBEM_FFT=numpy, SPECTRALBEM_JIT=0): the PK loop
+    uses the FFT's input/output buffers directly, and numpy's rfft2 returns fresh arrays —
+    the same solution to rounding (both converged to 1e-12)."""
+    import os
+    import subprocess
+    import sys
+
+    code = (
+        "import numpy as np, sys\n"
+        "from spectralbem import fft, kernels\n"
+        "from spectralbem.contact import polonsky_keer\n"
+        "from spectralbem.materials import Elastic\n"
+        "from spectralbem.spectral import Cell, SpectralOperator\n"
+        "from spectralbem.surfaces import self_affine\n"
+        "cell = Cell(1.0, 1.0, 64, 48)\n"
+        "h = self_affine(cell, 0.8, rolloff=2 * np.pi * 4, cutoff=2 * np.pi / (4 * cell.hx),"
+        " rms_slope=0.1, seed=5)\n"
+        "op = SpectralOperator(cell, Elastic(1.0, 0.3))\n"
+        "r = polonsky_keer(op, h, mean_pressure=0.004, tol=1e-12)\n"
+        "assert r[4], r[5]\n"
+        "np.save(sys.argv[1], r[0])\n"
+        "print(fft.backend(), kernels.backend())\n")
+    out = {}
+    for name, env in (("fast", {}), ("slow", {"SPECTRALBEM_FFT": "numpy",
+                                              "SPECTRALBEM_JIT": "0"})):
+        path = tmp_path / f"{name}.npy"
+        res = subprocess.run([sys.executable, "-c", code, str(path)], capture_output=True,
+                             text=True, env={**os.environ, **env}, check=True)
+        out[name] = (res.stdout.split(), np.load(path))
+    assert out["fast"][0] == ["pyfftw", "numba"] and out["slow"][0] == ["numpy", "numpy"]
+    fast, slow = out["fast"][1], out["slow"][1]
+    np.testing.assert_array_equal(fast > 0, slow > 0)
+    assert np.linalg.norm(fast - slow) <= 1e-9 * np.linalg.norm(fast)

@@ -215,7 +215,9 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     G_close = np.full(mask.shape, np.nan)
     dLP_cells = np.zeros(mask.shape)
     closing, opening = {}, {}
-    psi = adjoint_weights(op, mask, p, rtol) if op.viscoelastic else None
+    if op.viscoelastic:  # ψ kept on the outer band only (the closing layers lie in it)
+        band_cells = np.flatnonzero(b.outer_band)
+        psi_band = adjoint_weights(op, mask, p, rtol).ravel()[band_cells]
     solves = 0
     ok = True
     msg = "converged"
@@ -251,7 +253,10 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             owners, num, has, slot = _balance(dL, cells, own[cells], dg_area(cells), F_close,
                                               W_close)
             # per-cell δL_P from the adjoint weights (criterion.md §4.6); zero when elastic
-            dLPj = area * ppD * psi.ravel()[cells] if psi is not None else np.zeros(cells.size)
+            if op.viscoelastic:  # cells ⊂ the outer band, both sorted
+                dLPj = area * ppD * psi_band[np.searchsorted(band_cells, cells)]
+            else:
+                dLPj = np.zeros(cells.size)
             dLP_cells.ravel()[cells] += dLPj
             numP = np.bincount(slot, weights=dLPj, minlength=owners.size)
             areas = area * np.bincount(slot, minlength=owners.size)
@@ -291,7 +296,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     F_close = smooth_along_front(F_close, b.outer_front, sig_out, W_close)
     F_close[force_close] = -np.inf
     F_open = smooth_along_front(F_open, b.inner_front, sig_in, W_open)
-    solves += psi is not None
+    solves += bool(op.viscoelastic)
     return FrontTest(F_close, F_open, G_close, dLP_cells, g_open, closing, opening, cols, b,
                      solves, bool(ok), msg)
 

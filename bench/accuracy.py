@@ -38,7 +38,13 @@ from spectralbem import reference as ref  # noqa: E402
 from spectralbem import sinusoid1d as s1  # noqa: E402
 from spectralbem.adhesive import solve_adhesive  # noqa: E402
 from spectralbem.scenes import Scene, solve  # noqa: E402
-from spectralbem.validate import W_JKR, griffith_radius, jkr_cell  # noqa: E402
+from spectralbem.validate import (  # noqa: E402
+    W_JKR,
+    griffith_radius,
+    jkr_cell,
+    pulloff_bisection,
+    smoothing,
+)
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from run import write_section  # noqa: E402
@@ -75,25 +81,15 @@ def jkr_point(n: int, sigma: float | None, tol: float, pulloff: bool = True) -> 
     cell, op, h, r, w = jkr_cell(n, W_JKR)
     aJ = ref.jkr_radius(0.0, 1.0, 1.0, w)
     op.apply(h)  # plans the transforms
-    kw = {} if sigma is None else {"front_smoothing": sigma, "smoothing_per_radius": 0.0}
+    kw = {**smoothing(sigma), "rtol": tol}
     t = time.perf_counter()
-    res = solve_adhesive(op, h, w, cell.hx, mean_pressure=0.0, mask0=r < 0.9 * aJ,
-                         rtol=tol, **kw)
+    res = solve_adhesive(op, h, w, cell.hx, mean_pressure=0.0, mask0=r < 0.9 * aJ, **kw)
     err = {"radius": abs(griffith_radius(res, cell) / aJ - 1)}
     if pulloff:
-        Pc = ref.jkr_pulloff(1.0, w)
-        lo, hi, mask = 0.0, 1.2 * Pc, res.mask
-        for k in range(7):
-            mid = 0.9 * Pc if k == 0 else 0.5 * (lo + hi)
-            rr = solve_adhesive(op, h, w, cell.hx, mean_pressure=mid, mask0=mask, rtol=tol,
-                                **kw)
-            if rr.status == "partial":
-                lo, mask = mid, rr.mask
-            else:
-                hi = mid
-        # the bisection brackets the pull-off: its width (≤ 1.2·0.5⁶ ≈ 2 % above 0.9 Pc,
-        # 0.3 % after 7 steps) is part of the error, the midpoint is the estimate
-        err["pulloff"] = abs(0.5 * (lo + hi) / Pc - 1)
+        # the bracket (0.3 % of Pc after 7 steps) is part of the error; the midpoint is the
+        # estimate
+        lo, hi = pulloff_bisection(op, h, w, cell, res.mask, **kw)
+        err["pulloff"] = abs(0.5 * (lo + hi) - 1)
     return {"case": "jkr", "N": n, "cells_per_radius": aJ / cell.hx, "sigma": sigma,
             "tol": tol, "status": res.status, "seconds": time.perf_counter() - t,
             "errors": err, "error": max(err.values())}

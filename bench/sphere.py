@@ -30,6 +30,7 @@ from spectralbem import reference as ref  # noqa: E402
 from spectralbem.materials import StandardLinearSolid  # noqa: E402
 from spectralbem.spectral import Cell, SpectralOperator  # noqa: E402
 from spectralbem.surfaces import paraboloid  # noqa: E402
+from spectralbem.validate import smoothing  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from run import write_section  # noqa: E402
@@ -70,7 +71,7 @@ def run(n: int = 512, sigma: float | None = None):
     bucket = {}
     timed(ad, "solve_masked", bucket)
     timed(cr, "solve_masked", bucket)
-    kw = {} if sigma is None else {"front_smoothing": sigma, "smoothing_per_radius": 0.0}
+    kw = smoothing(sigma)
     t0 = time.perf_counter()
     res = ad.solve_adhesive(op, h, w, cell.hx, mean_pressure=0.0, mask0=mask0, **kw)
     wall = time.perf_counter() - t0

@@ -202,7 +202,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
 
     P = spectrum_of(p)
     S = 1.0
-    kernels.spectrum_step(P, P, 0.0, kn, S, spec)
+    np.multiply(P, kn, out=spec)
     u = inverse()
     idx = np.flatnonzero(p > 0)
     inside = np.zeros(n, dtype=bool)
@@ -250,19 +250,21 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         changed = bool(clipped.any())
         ov = ov_buf[:n_ov].copy() if n_ov else ov_buf[:0]
         coef_flag = 0.0 if ov.size else 1.0
+        exact = it % refresh == 0  # p̂ recomputed from p below: no incremental update
+        D = T
         if changed or ov.size:
-            # the projection correction c (c = -p on clipped cells, the overlap-driven
-            # pressure on joining cells) folded into the step: D = FFT(t - c/τ), p̂ ← p̂ - τD
             out = idx[clipped]
             pov = -tau * (u.take(ov) - w.take(ov) - gbar)
-            rin.put(out, tc[clipped] + pc[clipped] / tau)
-            rin.put(ov, -pov / tau)
-            forwards += 1
-            D = pl.forward_buffer()
-            rin.put(out, 0.0)
+            if not exact:
+                # the projection correction c (c = -p on clipped cells, the overlap-driven
+                # pressure on joining cells) folded into the step: D = FFT(t - c/τ),
+                # p̂ ← p̂ - τD
+                rin.put(out, tc[clipped] + pc[clipped] / tau)
+                rin.put(ov, -pov / tau)
+                forwards += 1
+                D = pl.forward_buffer()
+                rin.put(out, 0.0)
             pc[clipped] = 0.0
-        else:
-            D = T
         total = float(pc.sum()) + (float(pov.sum()) if ov.size else 0.0)
         scale = target * n / total if load else 1.0
         if not (np.isfinite(scale) and scale > 0):
@@ -284,12 +286,12 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
                 pc = np.concatenate([pc, pov])[order]
             wc = w.take(idx)
             gc = np.empty(idx.size)
-        if it % refresh == 0:  # exact p̂ from p (no drift of the incremental update)
+        if exact:  # p̂ from p (no drift of the incremental update)
             p[:] = 0.0
             p.put(idx, pc)
             P = spectrum_of(p)
             S = 1.0
-            kernels.spectrum_step(P, P, 0.0, kn, S, spec)
+            np.multiply(P, kn, out=spec)
         else:
             kernels.spectrum_step(P, D, -tau / S, kn, S * scale, spec)
             S *= scale

@@ -315,11 +315,11 @@ def adjoint_weights(op: SpectralOperator, mask: np.ndarray, p: np.ndarray,
 
 def patch_sigmas(mask, outer_front, inner_front, sigma: float, per_radius: float):
     """σ (cells) for the outer and inner front cells: σ_patch = max(σ, per_radius · r) with
-    r = min(2A/P, P/2π) the front radius (cells) of the contact patch the front cell belongs
-    to (area A, perimeter P; r is the radius of a disc and stays small on a convoluted patch
-    and on a short straight front;
-    4-connected; an outer front cell belongs to its neighbouring patch of largest σ).
-    Returns scalars when every front cell gets σ, else sparse maps {σ_patch: front cells}."""
+    r = min(2A/P, P/2π) the front radius (cells) of the 4-connected contact patch the front
+    cell belongs to (area A, perimeter P: the radius of a disc, small on a convoluted patch
+    and on a short straight front); an outer front cell belongs to its neighbouring patch of
+    largest σ.  Returns (σ, σ) when every front cell gets σ, else for each side a dict
+    {"cells": flat indices of its front cells, "sigma": their σ}."""
     if per_radius <= 0:
         return sigma, sigma
     lab, n = ndimage.label(mask)

@@ -118,6 +118,35 @@ def griffith_radius(res, cell) -> float:
     return float(a + (s.mean() if s.size else 0.0) + res.a0_effective / 2)
 
 
+def smoothing(sigma: float | None) -> dict:
+    """solve_adhesive keywords: None → the default front smoothing (6 cells, ≥ 0.23 of the
+    patch's front radius); a number → that σ fixed (no growth with the patch)."""
+    return {} if sigma is None else {"front_smoothing": sigma, "smoothing_per_radius": 0.0}
+
+
+def pulloff_bisection(op, h, w, cell, mask, steps: int = 7, verbose: bool = False, **kw):
+    """Load-control pull-off of the JKR scene by bisection on the mean pressure, unloading
+    from ``mask`` (each partial state's mask starts the next step): (lo, hi) in units of the
+    JKR value Pc = -3πwR/2.  The first step tries 0.9 Pc, the bracket starts at [0, 1.2 Pc];
+    after 7 steps it is 0.3 % of Pc wide."""
+    from . import reference as ref
+    from .adhesive import solve_adhesive
+
+    Pc = ref.jkr_pulloff(1.0, w)
+    lo, hi = 0.0, 1.2 * Pc
+    for k in range(steps):
+        mid = 0.9 * Pc if k == 0 else 0.5 * (lo + hi)
+        res = solve_adhesive(op, h, w, cell.hx, mean_pressure=mid, mask0=mask, **kw)
+        if res.status == "partial":
+            lo, mask = mid, res.mask
+        else:
+            hi = mid
+        if verbose:
+            print(f"  pull-off bisection {k + 1}/{steps}: P/Pc = {mid / Pc:.4f} {res.status} "
+                  f"({res.outer_iterations} outer iterations)", flush=True)
+    return lo / Pc, hi / Pc
+
+
 def jkr_sphere(n: int = 1024, sigma: float | None = None, w: float = W_JKR):
     """Elastic JKR sphere in a periodic cell: contact radius against JKR at zero load and at
     half the pull-off force (tensile), approached from a smaller (loading) and a larger
@@ -128,7 +157,7 @@ def jkr_sphere(n: int = 1024, sigma: float | None = None, w: float = W_JKR):
     from .adhesive import solve_adhesive
 
     cell, op, h, r, w = jkr_cell(n, w)
-    kw = {} if sigma is None else {"front_smoothing": sigma, "smoothing_per_radius": 0.0}
+    kw = smoothing(sigma)
     out = []
     for P in (0.0, 0.5 * ref.jkr_pulloff(1.0, w)):
         aJ = ref.jkr_radius(P, 1.0, 1.0, w)
@@ -144,21 +173,12 @@ def jkr_sphere(n: int = 1024, sigma: float | None = None, w: float = W_JKR):
             print(f"JKR P={P} {branch}: radius error {a / aJ - 1:+.2e} ({res.status}, "
                   f"{res.message[:60]})", flush=True)
     Pc = ref.jkr_pulloff(1.0, w)
-    mask = r < ref.jkr_radius(0.0, 1.0, 1.0, w)
-    lo, hi = 0.0, 1.2 * Pc
     t = time.perf_counter()
-    for k in range(7):
-        mid = 0.9 * Pc if k == 0 else 0.5 * (lo + hi)
-        res = solve_adhesive(op, h, w, cell.hx, mean_pressure=mid, mask0=mask, **kw)
-        if res.status == "partial":
-            lo, mask = mid, res.mask
-        else:
-            hi = mid
-        print(f"  pull-off bisection {k + 1}/7: P/Pc = {mid / Pc:.4f} {res.status} "
-              f"({res.outer_iterations} outer iterations)", flush=True)
-    pull = dict(lo=lo / Pc, hi=hi / Pc, Pc=Pc, cells=ref.jkr_radius(Pc, 1.0, 1.0, w) / cell.hx,
+    lo, hi = pulloff_bisection(op, h, w, cell, r < ref.jkr_radius(0.0, 1.0, 1.0, w),
+                               verbose=True, **kw)
+    pull = dict(lo=lo, hi=hi, Pc=Pc, cells=ref.jkr_radius(Pc, 1.0, 1.0, w) / cell.hx,
                 time=time.perf_counter() - t, n=n, w=w)
-    print(f"JKR pull-off between {lo / Pc:.4f} and {hi / Pc:.4f} of -3πwR/2", flush=True)
+    print(f"JKR pull-off between {lo:.4f} and {hi:.4f} of -3πwR/2", flush=True)
     return out, pull
 
 

@@ -1,9 +1,9 @@
 """Fused inner loops of the Polonsky–Keer iteration (:func:`spectralbem.contact.polonsky_keer`).
 
 At 1024² and above one PK iteration is memory-bound outside its FFTs: numpy needs one full
-pass per operation (a subtraction, a minimum, a mask, a product, ...).  These five loops
+pass per operation (a subtraction, a minimum, a mask, a product, ...).  These seven loops
 read each array once.  They are compiled with numba (``cache=True``: the first use in a fresh
-checkout compiles all five in ~0.7 s, later processes load them in ~0.2 s); without numba, or with
+checkout compiles all seven in ~0.7 s, later processes load them in ~0.2 s); without numba, or with
 ``SPECTRALBEM_JIT=0``, the same functions run as numpy expressions (identical results up to
 the summation order, slower).  ``backend()`` tells which is in use.
 
@@ -15,6 +15,10 @@ the summation order, slower).  ``backend()`` tells which is in use.
 * :func:`contact_gap` — on the contact set: the gap, its mean (load control) and the sums
   of the PK error and step.
 * :func:`direction` — the conjugate direction, written into the FFT input as well.
+* :func:`pk_step` — the packed pressure step ``pc − τ·tc``, its negative cells and
+  ``Σ max(pc, 0)``.
+* :func:`merge_set` — the new contact set: the cells with ``pc < 0`` dropped, the joining
+  cells merged in (both index lists sorted), with their t, p and w.
 """
 
 from __future__ import annotations
@@ -74,6 +78,23 @@ def direction_numpy(gc, tc, beta, load, rin, idx):
         tc -= tc.mean()
     rin.put(idx, tc)
     return float(np.dot(gc, tc))
+
+
+def pk_step_numpy(pc_cur, tc, tau):
+    pc = pc_cur - tau * tc
+    return pc, int(np.count_nonzero(pc < 0)), float(np.maximum(pc, 0.0).sum())
+
+
+def merge_set_numpy(idx, tc, pc, ov, pov, w):
+    keep = pc >= 0
+    idx, tc, pc = idx[keep], tc[keep], pc[keep]
+    if ov.size:
+        idx = np.concatenate([idx, ov])
+        order = np.argsort(idx, kind="stable")
+        idx = idx[order]
+        tc = np.concatenate([tc, np.zeros(ov.size)])[order]
+        pc = np.concatenate([pc, pov])[order]
+    return idx, tc, pc, w.take(idx)
 
 
 if numba is not None:
@@ -146,6 +167,64 @@ if numba is not None:
             d += gc[k] * t
         return d
 
+    @_jit
+    def _pk_step(pc_cur, tc, tau):  # pragma: no cover - compiled
+        pc = np.empty_like(pc_cur)
+        nneg = 0
+        total = 0.0
+        for k in range(pc.size):
+            v = pc_cur[k] - tau * tc[k]
+            pc[k] = v
+            if v < 0.0:
+                nneg += 1
+            else:
+                total += v
+        return pc, nneg, total
+
+    @_jit
+    def _merge_set(idx, tc, pc, ov, pov, w):  # pragma: no cover - compiled
+        m = ov.size
+        for k in range(idx.size):
+            if pc[k] >= 0.0:
+                m += 1
+        idx2 = np.empty(m, dtype=idx.dtype)
+        tc2 = np.empty(m)
+        pc2 = np.empty(m)
+        wc2 = np.empty(m)
+        i = 0
+        j = 0
+        o = 0
+        while i < idx.size or j < ov.size:
+            if i < idx.size and pc[i] < 0.0:
+                i += 1
+                continue
+            if j < ov.size and (i >= idx.size or ov[j] < idx[i]):
+                c = ov[j]
+                tc2[o] = 0.0
+                pc2[o] = pov[j]
+                j += 1
+            else:
+                c = idx[i]
+                tc2[o] = tc[i]
+                pc2[o] = pc[i]
+                i += 1
+            idx2[o] = c
+            wc2[o] = w[c]
+            o += 1
+        return idx2, tc2, pc2, wc2
+
+    def pk_step(pc_cur, tc, tau):
+        """(pc = pc_cur − τ·tc as a new array, the number of its negative cells,
+        Σ max(pc, 0))."""
+        pc, nneg, total = _pk_step(pc_cur, tc, float(tau))
+        return pc, int(nneg), float(total)
+
+    def merge_set(idx, tc, pc, ov, pov, w):
+        """The contact set after a step: the cells of ``idx`` with ``pc < 0`` dropped, the
+        cells ``ov`` (sorted, disjoint from ``idx``) merged in with t = 0 and p = ``pov``;
+        returns (idx, tc, pc, w[idx]), ``idx`` sorted."""
+        return _merge_set(idx, tc, pc, ov, pov, w)
+
     def contact_gap(u, idx, wc, pc, load, gc):
         """On the contact set ``idx``: gc = u[idx] − wc − ḡ (ḡ its mean under load control,
         else 0), written in place; returns (ḡ, Σ pc|gc|, Σ pc, Σ gc²)."""
@@ -178,3 +257,5 @@ else:  # pragma: no cover - the numpy build
     gap_scan = gap_scan_numpy
     contact_gap = contact_gap_numpy
     direction = direction_numpy
+    pk_step = pk_step_numpy
+    merge_set = merge_set_numpy

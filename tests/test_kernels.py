@@ -99,19 +99,73 @@ def test_contact_gap_and_direction(n, seed, load, beta):
         assert not np.any(np.delete(rin, idx))
 
 
+@settings(max_examples=30, deadline=None)
+@given(n=st.integers(1, 300), seed=st.integers(0, 2**31), tau=st.floats(-3, 3))
+def test_pk_step(n, seed, tau):
+    rng = np.random.default_rng(seed)
+    pc_cur, tc = rng.random(n), rng.normal(size=n)
+    expect = pc_cur - tau * tc
+    for step in (kernels.pk_step, kernels.pk_step_numpy):
+        pc, nneg, total = step(pc_cur, tc, tau)
+        np.testing.assert_allclose(pc, expect, rtol=1e-15, atol=1e-15)  # one fma or two ops
+        assert nneg == np.count_nonzero(pc < 0)
+        # ≤ 300 O(1) positive terms in another order
+        assert total == pytest.approx(np.maximum(pc, 0).sum(), rel=1e-13, abs=1e-300)
+
+
+@settings(max_examples=40, deadline=None)
+@given(n=st.integers(0, 200), k=st.integers(0, 50), seed=st.integers(0, 2**31))
+def test_merge_set(n, k, seed):
+    rng = np.random.default_rng(seed)
+    m = 2 * (n + k) + 1
+    cells = rng.permutation(m)
+    idx, ov = np.sort(cells[:n]), np.sort(cells[n:n + k])
+    tc, pc, pov, w = (rng.normal(size=n), rng.normal(size=n), rng.random(k),
+                      rng.normal(size=m))
+    keep = pc >= 0
+    expect_idx = np.sort(np.concatenate([idx[keep], ov]))
+    for merge in (kernels.merge_set, kernels.merge_set_numpy):
+        i2, t2, p2, w2 = merge(idx, tc, pc, ov, pov, w)
+        # exact: a permutation of copies
+        np.testing.assert_array_equal(i2, expect_idx)
+        np.testing.assert_array_equal(w2, w[expect_idx])
+        t_of = dict(zip(idx[keep], tc[keep], strict=True)) | {c: 0.0 for c in ov}
+        p_of = dict(zip(idx[keep], pc[keep], strict=True)) | dict(zip(ov, pov, strict=True))
+        np.testing.assert_array_equal(t2, [t_of[c] for c in expect_idx])
+        np.testing.assert_array_equal(p2, [p_of[c] for c in expect_idx])
+
+
 def test_pk_same_with_numpy_loops(monkeypatch):
     cell = Cell(1.0, 1.0, 64, 64)
     h = self_affine(cell, 0.8, rolloff=2 * np.pi * 4, cutoff=2 * np.pi / (4 * cell.hx),
                     rms_slope=0.1, seed=3)
     op = SpectralOperator(cell, Elastic(1.0, 0.3))
     fast = contact.polonsky_keer(op, h, mean_pressure=0.004, tol=1e-12)
-    for name in ("parseval_sum", "spectrum_step", "gap_scan", "contact_gap", "direction"):
+    for name in ("parseval_sum", "spectrum_step", "gap_scan", "contact_gap", "direction",
+                 "pk_step", "merge_set"):
         monkeypatch.setattr(kernels, name, getattr(kernels, f"{name}_numpy"))
     slow = contact.polonsky_keer(op, h, mean_pressure=0.004, tol=1e-12)
     assert fast[4] and slow[4]
     np.testing.assert_array_equal(fast[0] > 0, slow[0] > 0)
     # both converged to 1e-12 complementarity; the two runs differ only by summation order
     assert np.linalg.norm(fast[0] - slow[0]) <= 1e-9 * np.linalg.norm(fast[0])
+
+
+def test_pk_same_with_transformed_corrections(monkeypatch):
+    """The direct sum of a few cells' correction (fft.add_sparse) against its transform: the
+    same iterations, contact set and pressure (rounding only: both converged to 1e-12)."""
+    cell = Cell(1.0, 1.0, 96, 80)
+    h = self_affine(cell, 0.8, rolloff=2 * np.pi * 4, cutoff=2 * np.pi / (4 * cell.hx),
+                    rms_slope=0.1, seed=4)
+    op = SpectralOperator(cell, Elastic(1.0, 0.3))
+    sparse = contact.polonsky_keer(op, h, mean_pressure=0.004, tol=1e-12)
+    monkeypatch.setattr(contact, "SPARSE_MAX", 0)
+    dense = contact.polonsky_keer(op, h, mean_pressure=0.004, tol=1e-12)
+    assert sparse[4] and dense[4]
+    assert sparse[6] < dense[6]  # fewer transforms: the direct sums were used
+    assert abs(sparse[3] - dense[3]) <= 2
+    np.testing.assert_array_equal(sparse[0] > 0, dense[0] > 0)
+    assert np.linalg.norm(sparse[0] - dense[0]) <= 1e-9 * np.linalg.norm(dense[0])
 
 
 def test_pk_with_numpy_fft_and_numpy_loops_in_a_fresh_process(tmp_path):

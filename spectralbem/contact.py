@@ -173,7 +173,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     load = mean_pressure is not None
     pl = op.plan
     kn = np.ascontiguousarray(op.kernel.real / n)  # kernel with the 1/N of the inverse
-    kw = np.ascontiguousarray(op.cell.rfft_weights() * kn)  # Parseval weights · Ĉ / N
+    mult = np.ascontiguousarray(op.cell.rfft_weights()[0])  # Parseval column multiplicities
     if load:
         target = float(mean_pressure)
         w = (h - hmax).ravel()
@@ -256,7 +256,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         gc_tc = kernels.direction(gc, tc, coef_flag * G / G_old, load, rin, idx)
         G_old = G
         T = pl.forward_buffer()  # the plan's output buffer
-        denom = kernels.parseval_sum(T, kw)  # ⟨C t, t⟩ by Parseval
+        denom = kernels.parseval_sum(T, kn, mult)  # ⟨C t, t⟩ by Parseval
         if not denom > 0:
             message = f"search direction degenerate at iteration {it} (error {err:.3e})"
             break

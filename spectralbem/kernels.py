@@ -7,7 +7,8 @@ checkout compiles all seven in ~0.7 s, later processes load them in ~0.2 s); wit
 ``SPECTRALBEM_JIT=0``, the same functions run as numpy expressions (identical results up to
 the summation order, slower).  ``backend()`` tells which is in use.
 
-* :func:`parseval_sum` — ``Σ_q w_q |T_q|²`` over a half spectrum: ⟨C t, t⟩ by Parseval.
+* :func:`parseval_sum` — ``Σ_q m_q k_q |T_q|²`` over a half spectrum (m_q the column
+  multiplicity): ⟨C t, t⟩ by Parseval.
 * :func:`spectrum_step` — ``P ← P + a·D`` and ``out = (s·k)·P`` in one pass (the pressure
   spectrum update and the kernel product that feeds the inverse transform).
 * :func:`gap_scan` — outside the contact set: the minimum of ``u − w`` and the cells where
@@ -44,9 +45,8 @@ def backend() -> str:
 
 
 # -- numpy versions (the reference the compiled loops are tested against) ----------------------
-def parseval_sum_numpy(T: np.ndarray, w: np.ndarray) -> float:
-    Tv = T.reshape(-1).view(np.float64)
-    return float(np.einsum("i,i->", np.repeat(w.reshape(-1), 2), Tv * Tv))
+def parseval_sum_numpy(T: np.ndarray, k: np.ndarray, m: np.ndarray) -> float:
+    return float(np.sum(m * k * (T.real**2 + T.imag**2)))
 
 
 def spectrum_step_numpy(P, D, a, k, s, out) -> None:
@@ -101,11 +101,12 @@ if numba is not None:
     _jit = numba.njit(cache=True, nogil=True)
 
     @_jit
-    def _parseval_sum(T, w):  # pragma: no cover - compiled
+    def _parseval_sum(T, k, m):  # pragma: no cover - compiled
         s = 0.0
-        for i in range(w.size):
-            z = T[i]
-            s += w[i] * (z.real * z.real + z.imag * z.imag)
+        for i in range(T.shape[0]):
+            for j in range(T.shape[1]):
+                z = T[i, j]
+                s += m[j] * k[i, j] * (z.real * z.real + z.imag * z.imag)
         return s
 
     @_jit
@@ -235,9 +236,10 @@ if numba is not None:
         ``rin[idx]``; returns ⟨gc, tc⟩."""
         return float(_direction(gc, tc, float(beta), bool(load), rin, idx))
 
-    def parseval_sum(T: np.ndarray, w: np.ndarray) -> float:
-        """Σ w |T|² for a complex half spectrum T and real weights w of the same shape."""
-        return float(_parseval_sum(T.reshape(-1), w.reshape(-1)))
+    def parseval_sum(T: np.ndarray, k: np.ndarray, m: np.ndarray) -> float:
+        """Σ m_j k_ij |T_ij|² for a complex half spectrum T, real k of the same shape and the
+        column multiplicities m (length T.shape[1])."""
+        return float(_parseval_sum(T, k, m))
 
     def spectrum_step(P, D, a, k, s, out) -> None:
         """P ← P + a·D (in place) and out = s·k·P, in one pass (contiguous arrays)."""

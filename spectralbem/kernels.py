@@ -1,4 +1,5 @@
-"""Fused inner loops of the Polonsky–Keer iteration (:func:`spectralbem.contact.polonsky_keer`).
+"""Compiled inner loops: the Polonsky–Keer iteration (:func:`spectralbem.contact.polonsky_keer`)
+and the 1D kernel table (:class:`spectralbem.sinusoid1d.Kernel1D`).
 
 At 1024² and above one PK iteration is memory-bound outside its FFTs: numpy needs one full
 pass per operation (a subtraction, a minimum, a mask, a product, ...).  These seven loops
@@ -20,6 +21,9 @@ the summation order, slower).  ``backend()`` tells which is in use.
   ``Σ max(pc, 0)``.
 * :func:`merge_set` — the new contact set: the cells with ``pc < 0`` dropped, the joining
   cells merged in (both index lists sorted), with their t, p and w.
+* :func:`periodic_cubic` — the 1D method's viscoelastic kernel remainder: a periodic
+  piecewise cubic evaluated at M × Q distances without temporaries (it was 70 % of a 1D
+  solve at ζ = 1e-3 as numpy passes).
 """
 
 from __future__ import annotations
@@ -95,6 +99,22 @@ def merge_set_numpy(idx, tc, pc, ov, pov, w):
         tc = np.concatenate([tc, np.zeros(ov.size)])[order]
         pc = np.concatenate([pc, pov])[order]
     return idx, tc, pc, w.take(idx)
+
+
+def periodic_cubic_numpy(coefs, x, y, lam, inv_dx, guard, out, near_index):
+    n = coefs.shape[0]
+    d = np.subtract.outer(np.asarray(x, float), np.asarray(y, float)).ravel()
+    if d.size and max(-d.min(), d.max()) >= lam:
+        d = np.mod(d, lam)
+    pos = d * inv_dx
+    np.add(pos, n, out=pos, where=pos < 0)
+    near = np.flatnonzero(np.abs(pos - 0.5 * n) > 0.5 * n - guard)
+    i = np.minimum(pos.astype(np.intp), n - 1)
+    t = pos - i
+    c = coefs.take(i, axis=0)
+    out.reshape(-1)[:] = c[:, 0] + t * (c[:, 1] + t * (c[:, 2] + t * c[:, 3]))
+    near_index[: near.size] = near
+    return int(near.size)
 
 
 if numba is not None:
@@ -226,6 +246,39 @@ if numba is not None:
         returns (idx, tc, pc, w[idx]), ``idx`` sorted."""
         return _merge_set(idx, tc, pc, ov, pov, w)
 
+    @_jit
+    def _periodic_cubic(coefs, x, y, lam, inv_dx, guard, out, near_index):  # pragma: no cover
+        n = coefs.shape[0]
+        half = 0.5 * n
+        cnt = 0
+        for j in range(x.size):
+            for i in range(y.size):
+                d = x[j] - y[i]
+                if d >= lam or d <= -lam:
+                    d = d % lam  # Python's modulo: in [0, λ)
+                pos = d * inv_dx
+                if pos < 0.0:
+                    pos += n
+                if abs(pos - half) > half - guard:
+                    near_index[cnt] = j * y.size + i
+                    cnt += 1
+                c = int(pos)
+                if c > n - 1:
+                    c = n - 1
+                t = pos - c
+                out[j, i] = coefs[c, 0] + t * (coefs[c, 1] + t * (coefs[c, 2]
+                                                                  + t * coefs[c, 3]))
+        return cnt
+
+    def periodic_cubic(coefs, x, y, lam, inv_dx, guard, out, near_index):
+        """The periodic piecewise cubic with rows ``coefs`` (c0..c3 per cell of width
+        1/inv_dx, period λ) at the distances x_j − y_i, written to ``out`` (len(x) × len(y));
+        the flat indices of the distances within ``guard`` cells of 0 (mod λ) go to
+        ``near_index``, their number is returned."""
+        return int(_periodic_cubic(coefs, np.ascontiguousarray(x, dtype=float),
+                                   np.ascontiguousarray(y, dtype=float), float(lam),
+                                   float(inv_dx), float(guard), out, near_index))
+
     def contact_gap(u, idx, wc, pc, load, gc):
         """On the contact set ``idx``: gc = u[idx] − wc − ḡ (ḡ its mean under load control,
         else 0), written in place; returns (ḡ, Σ pc|gc|, Σ pc, Σ gc²)."""
@@ -261,3 +314,4 @@ else:  # pragma: no cover - the numpy build
     direction = direction_numpy
     pk_step = pk_step_numpy
     merge_set = merge_set_numpy
+    periodic_cubic = periodic_cubic_numpy

@@ -41,6 +41,7 @@ import scipy.fft as sfft
 from scipy.optimize import root
 from scipy.special import bernoulli, roots_jacobi
 
+from . import kernels
 from .materials import Elastic, Material, StandardLinearSolid
 
 # ---------------------------------------------------------------------------------------------
@@ -125,23 +126,6 @@ def _periodic_cubic(vals, slopes, dx):
     s1 = np.roll(s0, -1)
     return np.ascontiguousarray(np.stack(
         [vals, s0, 3.0 * (v1 - vals) - 2.0 * s0 - s1, 2.0 * (vals - v1) + s0 + s1], axis=1))
-
-
-def _eval_cubic(coefs, pos):
-    """Evaluate :func:`_periodic_cubic` at ``pos`` in [0, n) (cell units), overwriting ``pos``.
-
-    Hot path of the kernel matrices: one gather of coefficient rows (neighbouring positions
-    share cache lines) and a Horner scheme in place."""
-    i = pos.astype(np.intp)
-    np.minimum(i, coefs.shape[0] - 1, out=i)
-    pos -= i  # the fraction t
-    c = coefs.take(i, axis=0)
-    out = c[..., 3] * pos
-    for j in (2, 1):
-        out += c[..., j]
-        out *= pos
-    out += c[..., 0]
-    return out
 
 
 # ---------------------------------------------------------------------------------------------
@@ -232,22 +216,28 @@ class Kernel1D:
         d = np.asarray(d, dtype=float)
         if self.table is None:
             return np.zeros_like(d)
-        n = self.table_size
-        if d.size and max(-d.min(), d.max()) >= self.lam:
-            d = np.mod(d, self.lam)
-        pos = d * (1.0 / self.dx)  # in cells, in (-n, n)
-        np.add(pos, n, out=pos, where=pos < 0)
-        # near the origin (and its periodic image) the Clausen kinks defeat interpolation:
-        # there the tails are exact (positions within 16 cells of 0 or n)
-        near = np.flatnonzero(np.abs(pos.ravel() - 0.5 * n) > 0.5 * n - 16)
-        r = _eval_cubic(self._cubic, pos)
-        if near.size:
-            dn = d.ravel()[near]
+        return self.remainder_matrix(d.ravel(), np.zeros(1)).reshape(d.shape)
+
+    def remainder_matrix(self, x, y) -> np.ndarray:
+        """R(x_j − y_i) as a len(x) × len(y) matrix (the hot path of the response matrices:
+        one compiled pass, no temporaries)."""
+        x, y = np.asarray(x, dtype=float).ravel(), np.asarray(y, dtype=float).ravel()
+        r = np.empty((x.size, y.size))
+        if self.table is None:
+            r[...] = 0.0
+            return r
+        near = np.empty(r.size, dtype=np.intp)
+        # the cubic table; near the origin (and its periodic image) the Clausen kinks defeat
+        # interpolation: there (within 16 cells) the tails are added exactly
+        n_near = kernels.periodic_cubic(self._cubic, x, y, self.lam, 1.0 / self.dx, 16.0, r,
+                                        near)
+        if n_near:
+            jj, ii = np.divmod(near[:n_near], y.size)
+            dn = x[jj] - y[ii]
             dn = dn - self.lam * np.round(dn / self.lam)
             x0, tv, ts = self._near_table
             corr = self._tails(dn) - _hermite(tv, ts, (dn - x0) / self.dx, self.dx)
-            rv = r.reshape(-1)
-            rv[near] += corr
+            r.reshape(-1)[near[:n_near]] += corr
         return r
 
     def smooth(self, d) -> np.ndarray:
@@ -325,15 +315,32 @@ class Domain:
         A = _log_moments(xi, self.M)
         A[:, 0] += np.pi * (np.log(self.a) + np.log(kernel.k))
         A *= -kernel.cL * self.a
-        qe = min(self.Q, Q_ANALYTIC)
+        qe = self.analytic_nodes(x, lam)
         xq = self.xq if qe == self.Q else self.c + self.a * np.cos(
             (np.arange(qe) + 0.5) * np.pi / qe)
         F = log_sinc(kernel.k * (x[:, None] - xq[None, :]))
         A -= (kernel.cL * self.a * np.pi / (2 * qe)) * sfft.dct(F, type=2, axis=1)[:, : self.M]
         if kernel.table is not None:
-            F = kernel.remainder(x[:, None] - self.xq[None, :])
+            F = kernel.remainder_matrix(x, self.xq)
             A += (self.a * np.pi / (2 * self.Q)) * sfft.dct(F, type=2, axis=1)[:, : self.M]
         return A
+
+    def analytic_nodes(self, x, lam: float) -> int:
+        """Gauss-Chebyshev nodes for the log sinc part at the points x (nearest images).
+
+        log sinc(k(x − x')) is analytic in x' except at x' = x ± λ; the nearest of these lies
+        δ = λ − a − max|x − c| beyond the contact, so its Chebyshev series in σ decays as
+        ρ⁻ⁿ with ρ = s + √(s² − 1), s = 1 + δ/a.  The moments up to M − 1 then need
+        M + n(1e-16) nodes (generously: exact for polynomials of degree 2·nodes − M);
+        at most ``Q_ANALYTIC`` (and Q) — near full contact δ → 0 and the cap holds.
+        """
+        delta = lam - self.a - float(np.max(np.abs(np.asarray(x) - self.c)))
+        s = 1.0 + max(delta, 0.0) / self.a
+        rho = s + math.sqrt(s * s - 1.0)
+        n_f = 37.0 / math.log(rho) if rho > 1.0 else np.inf  # ρ^-n = 1e-16
+        need = self.M + n_f + 16
+        qe = Q_ANALYTIC if not np.isfinite(need) else int(sfft.next_fast_len(int(need), real=True))
+        return int(min(self.Q, max(min(qe, Q_ANALYTIC), self.M)))
 
     def pressure(self, coef, x) -> np.ndarray:
         xi = (np.asarray(x, float) - self.c) / self.a
@@ -435,9 +442,9 @@ class Sinusoid1D:
         self.M = int(modes)
         if quad is None:  # resolve the kernel's relaxation length v/ω_c across a period
             quad = 1024  # elastic: the smooth part log sinc(θ/2π) is analytic
-            if self.kernel.visco:
-                quad = int(2 ** np.clip(np.ceil(np.log2(0.5 * self.lam / self.kernel.scale)),
-                                        11, 14))
+            if self.kernel.visco:  # 0.5 λ/ℓ nodes (a fast DCT length), 1024 to 16384
+                need = np.clip(0.5 * self.lam / self.kernel.scale, 1024, 16384)
+                quad = int(sfft.next_fast_len(int(np.ceil(need)), real=True))
         self.Q = int(quad)
         self.strip_nodes = strip_nodes
         self.Estar_tip = self.kernel.E_tip / (1 - material.nu**2)

@@ -31,6 +31,44 @@ def test_viscoelastic_kernel_against_direct_fourier_sum():
     np.testing.assert_allclose(kern.remainder(d), direct, atol=3e-6)
 
 
+def test_remainder_matrix_equals_elementwise_remainder():
+    """The compiled M × Q pass equals R at each distance (the numpy path, including the
+    distances beyond a period and the exact near-origin correction) to rounding."""
+    kern = s1.Kernel1D(StandardLinearSolid(1.0, BETA, 1.0, 0.0), 1.0, 0.01)
+    x = np.array([-7.0, -0.3, 0.0, 1e-4, 0.2, 3.0, 6.5])
+    y = np.linspace(-1.2, 1.3, 301)
+    F = kern.remainder_matrix(x, y)
+    from spectralbem import kernels
+
+    args = (kern._cubic, x, y, kern.lam, 1 / kern.dx, 16.0)
+    G, near_g = np.empty_like(F), np.empty(F.size, dtype=np.intp)
+    H, near_h = np.empty_like(F), np.empty(F.size, dtype=np.intp)
+    ng = kernels.periodic_cubic_numpy(*args, G, near_g)
+    nh = kernels.periodic_cubic(*args, H, near_h)
+    assert nh == ng > 0  # the near-origin entries are exercised, the same ones
+    np.testing.assert_array_equal(near_h[:nh], near_g[:ng])
+    # the same cubic at positions that may differ by the rounding of the modulo
+    tol = 1e-13 * np.abs(F).max()
+    np.testing.assert_allclose(H, G, atol=tol)
+    for j, xj in enumerate(x):
+        np.testing.assert_allclose(F[j], kern.remainder(xj - y), atol=tol)
+
+
+@pytest.mark.parametrize("l1, l2", [(0.3, 0.2), (1.15, 1.12), (3.0, 3.05)])
+def test_response_with_adaptive_analytic_nodes(monkeypatch, l1, l2):
+    """The log-sinc part on the adaptive number of nodes (analytic_nodes) equals the one on
+    Q_ANALYTIC nodes to 1e-12 relative, for points inside, beside and far from the contact
+    (small, medium and nearly full contact: 2π − (l1 + l2) = 5.8, 4.0, 0.23)."""
+    kern = s1.Kernel1D(StandardLinearSolid(1.0, BETA, 1.0, 0.0), 1.0, 0.1)
+    dom = s1.Domain(l1, l2, 64, 2048)
+    x = np.concatenate([dom.x, [-l1 - 0.01, l2 + 0.01, l2 + 1.0, np.pi]])
+    A = dom.response(kern, x)
+    assert dom.analytic_nodes(x, kern.lam) < s1.Q_ANALYTIC or l1 + l2 > 6
+    monkeypatch.setattr(s1.Domain, "analytic_nodes", lambda self, x, lam: s1.Q_ANALYTIC)
+    B = dom.response(kern, x)
+    np.testing.assert_allclose(A, B, rtol=0, atol=1e-12 * np.abs(B).max())
+
+
 @pytest.mark.parametrize("p_tilde", [0.05, 0.15, 0.5])
 def test_westergaard(p_tilde):
     ds = s1.solve(0.0, BETA, 0.0, p_tilde=p_tilde, a0_tilde=0.0, adhesiveless_reference=False)

@@ -37,6 +37,7 @@ bench: $(STAMP)
 	$(BIN)/python bench/sphere.py 512 default 6
 	$(BIN)/python bench/accuracy.py
 	$(BIN)/python bench/sweep2d.py
+	$(BIN)/python bench/oned.py
 
 figures: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python cases/figures_1d.py

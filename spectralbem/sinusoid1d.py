@@ -624,6 +624,11 @@ class Sinusoid1D:
     def equilibrium(self, *, delta=None, p_mean=None, guess=None, tol=1e-11, ftol=1e-8):
         """Partial-contact equilibrium at given Δ or p∞ from a guess (l1, l2).
 
+        A state whose surface crosses the rigid profile outside the contact (by more than
+        1e-6 Λ at 64 points of the separated part) is not an equilibrium: not converged, with
+        the reason in ``info['message']`` (:meth:`robust_equilibrium` then tries the next
+        guess).
+
         Converged when both edge residuals ``√(δL_i/(a0 Δγ)) - 1`` (or the SIF residuals) are
         below ``ftol`` — MINPACK's own flag is not used, since at tiny a0 the residual has a
         noise floor of ~1e-10 that stops its step-size test, not the balance.
@@ -638,9 +643,14 @@ class Sinusoid1D:
         st = self.solve_domain(l1, l2, **{control: value})
         if self.dgamma and self.a0:
             self.release_rates(st)
-        st.info = {"converged": ok, "message": sol.message, "nfev": sol.nfev,
+        message = sol.message
+        over = self.interpenetration(st) if ok else 0.0
+        if over > 1e-6:  # both edges balance, but the surface crosses the profile elsewhere
+            ok = False
+            message = f"inadmissible: interpenetrates by {over:.1e} Λ outside the contact"
+        st.info = {"converged": ok, "message": message, "nfev": sol.nfev,
                    "residual": float(np.max(np.abs(sol.fun))), "residuals": tuple(sol.fun),
-                   "control": (control, value)}
+                   "control": (control, value), "interpenetration": over}
         return st
 
     def guesses(self, control, value):

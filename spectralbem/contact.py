@@ -137,9 +137,15 @@ def _full_contact(op, h, mean_pressure=None, penetration=None):
     return p, delta
 
 
-#: most changed cells whose projection correction is summed directly instead of transformed
-#: (a rank-k update costs ≈ k/20 of a forward transform at 512², k/40 at 1024²: measured)
+#: most changed cells whose projection correction is summed directly instead of transformed,
+#: at 512² (a rank-k update costs ≈ k/20 of a forward transform at 512², k/40 at 1024², k/70
+#: at 2048²: measured); it grows as √(cells): 32 at 1024², 64 at 2048²
 SPARSE_MAX = 16
+
+
+def sparse_max(n_cells: int) -> int:
+    """The direct-sum threshold for a grid of ``n_cells`` (see :data:`SPARSE_MAX`)."""
+    return int(SPARSE_MAX * max(1.0, np.sqrt(n_cells / 512**2)))
 
 
 def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetration=None,
@@ -151,7 +157,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     iteration costs one forward FFT (of the search direction t) and one inverse FFT
     (u = C p).  When the active set changes, the projection correction c (clipped cells,
     cells that join) is folded into a second forward FFT, D = FFT(t − c/τ), that replaces
-    T in the update p̂ ← p̂ − τ·D — or, when at most ``SPARSE_MAX`` cells change, added to T
+    T in the update p̂ ← p̂ − τ·D — or, when at most :func:`sparse_max` cells change, added to T
     by the direct sum over those cells (:meth:`~spectralbem.fft.RealFFT2.add_sparse`, no
     transform); p̂ is recomputed exactly every ``refresh`` iterations.
     Real-space work is done on packed index arrays of the contact set; the full-grid passes
@@ -174,6 +180,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     pl = op.plan
     kn = np.ascontiguousarray(op.kernel.real / n)  # kernel with the 1/N of the inverse
     mult = np.ascontiguousarray(op.cell.rfft_weights()[0])  # Parseval column multiplicities
+    k_sparse = sparse_max(n)
     if load:
         target = float(mean_pressure)
         w = (h - hmax).ravel()
@@ -273,7 +280,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             out = idx[clipped]
             pov = -tau * (u.take(ov) - w.take(ov) - gbar)
             total += float(pov.sum())
-            if not exact and out.size + ov.size <= SPARSE_MAX:
+            if not exact and out.size + ov.size <= k_sparse:
                 # few cells: D = T + FFT(δ) by the direct sum over them, no transform
                 pl.add_sparse(T, np.concatenate([out, ov]),
                               np.concatenate([pc[clipped] / tau, -pov / tau]))

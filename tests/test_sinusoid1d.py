@@ -193,6 +193,23 @@ def test_adhesiveless_asymptotes_and_full_contact():
     assert below.status.item() == "partial" and below.a_tilde.item() < np.pi
 
 
+def test_equilibrium_rejects_a_state_that_interpenetrates(monkeypatch):
+    """Balanced edges are not enough: a contact on the flank ([0.4, 1.6], the crest x = 0
+    outside it) at the Δ of the crest contact crosses the rigid profile near the crest, and
+    equilibrium() must report it as not converged (the root finder is made to return it)."""
+    from types import SimpleNamespace
+
+    pr = s1.dimensionless_problem(0.0, 10.0, 0.008, 0.01)
+    good = pr.equilibrium(p_mean=0.15 * pr.p_star())
+    assert good.info["converged"] and good.info["interpenetration"] == 0.0
+    flank = SimpleNamespace(x=np.array([-0.4, 1.6]), fun=np.zeros(2), message="forced",
+                            nfev=1)
+    monkeypatch.setattr(s1, "root", lambda *a, **k: flank)
+    bad = pr.equilibrium(delta=good.delta)
+    assert not bad.info["converged"]
+    assert bad.info["interpenetration"] > 1e-3 and "inadmissible" in bad.info["message"]
+
+
 def test_bad_inputs():
     with pytest.raises(ValueError, match="beta"):
         s1.solve(0.1, 0.5, GAMMA, p_tilde=0.1, a0_tilde=0.01)

@@ -10,11 +10,12 @@ Two scenes with independent references:
   grid N² (cells per radius), the front smoothing σ (default, or fixed 3/6/12 cells) and
   the Krylov tolerance.
 
-The layer criterion is always the exact one (every front layer tested by a masked solve):
-the package has no predictor-only mode (criterion.md §4.3 describes one; not implemented).
+and the front criterion: exact layer tests (every front layer tested by a masked solve),
+the zero-solve predictor of criterion.md §4.3 alone ('predictor': the exact tests only
+evaluate the outputs of its final mask) or the predictor then exact tests ('hybrid').
 One thread, wall seconds of the solve (operator construction and FFT planning excluded).
 Writes bench/accuracy.json, docs/figures/accuracy_cost.png and the accuracy table of
-docs/performance.md.  Usage: python bench/accuracy.py [--quick]
+docs/performance.md.  Usage: python bench/accuracy.py [--quick] [--criteria-only] [--report-only]
 """
 
 from __future__ import annotations
@@ -54,11 +55,12 @@ BETA, GAMMA, A0, P_TILDE = 10.0, 0.008, 0.01, 0.15
 SIN_KEYS = ("a_tilde", "e_tilde", "G1_over_dgamma", "G2_over_dgamma", "mu_bar")
 
 
-def sinusoid_point(zeta: float, m: int, tol: float) -> dict:
+def sinusoid_point(zeta: float, m: int, tol: float, criterion: str = "exact") -> dict:
     n = int(np.ceil(m * 2 * np.pi / A0))  # h ≤ a0/m
     scene = Scene.sinusoid(zeta, BETA, GAMMA, p_tilde=P_TILDE, a0_tilde=A0,
                            cells_per_wavelength=n, ny=2)
-    scene = dataclasses.replace(scene, solver={**scene.solver, "tol": tol})
+    scene = dataclasses.replace(scene, solver={**scene.solver, "tol": tol,
+                                               "criterion": criterion})
     fft.plan(scene.cell.shape)  # FFT planning is not part of the solve
     t = time.perf_counter()
     ds = solve(scene)
@@ -71,17 +73,18 @@ def sinusoid_point(zeta: float, m: int, tol: float) -> dict:
         scale = abs(r1["a_tilde"].item()) if k == "e_tilde" else abs(v1)
         err[k] = abs(v2 - v1) / scale
     return {"case": "sinusoid", "zeta": zeta, "a0_over_h": m, "N": n, "tol": tol,
-            "status": ds.status.item(), "seconds": wall, "errors": err,
+            "criterion": criterion, "status": ds.status.item(), "seconds": wall, "errors": err,
             "error": max(err.values())}
 
 
-def jkr_point(n: int, sigma: float | None, tol: float, pulloff: bool = True) -> dict:
+def jkr_point(n: int, sigma: float | None, tol: float, pulloff: bool = True,
+              criterion: str = "exact") -> dict:
     """``sigma`` None: the default front smoothing (6 cells, ≥ 0.23 of the patch radius);
     a number: that σ fixed."""
     cell, op, h, r, w = jkr_cell(n, W_JKR)
     aJ = ref.jkr_radius(0.0, 1.0, 1.0, w)
     op.apply(h)  # plans the transforms
-    kw = {**smoothing(sigma), "rtol": tol}
+    kw = {**smoothing(sigma), "rtol": tol, "criterion": criterion}
     t = time.perf_counter()
     res = solve_adhesive(op, h, w, cell.hx, mean_pressure=0.0, mask0=r < 0.9 * aJ, **kw)
     err = {"radius": abs(griffith_radius(res, cell) / aJ - 1)}
@@ -91,7 +94,8 @@ def jkr_point(n: int, sigma: float | None, tol: float, pulloff: bool = True) -> 
         lo, hi = pulloff_bisection(op, h, w, cell, res.mask, **kw)
         err["pulloff"] = abs(0.5 * (lo + hi) - 1)
     return {"case": "jkr", "N": n, "cells_per_radius": aJ / cell.hx, "sigma": sigma,
-            "tol": tol, "status": res.status, "seconds": time.perf_counter() - t,
+            "tol": tol, "criterion": criterion, "status": res.status,
+            "seconds": time.perf_counter() - t,
             "errors": err, "error": max(err.values())}
 
 
@@ -107,10 +111,12 @@ def pareto(rows):
 
 
 def label(r):
+    crit = r.get("criterion", "exact")
+    crit = "" if crit == "exact" else f" {crit}"
     if r["case"] == "sinusoid":
-        return f"ζ={r['zeta']:g} a0/h={r['a0_over_h']} tol={r['tol']:.0e}"
+        return f"ζ={r['zeta']:g} a0/h={r['a0_over_h']} tol={r['tol']:.0e}{crit}"
     sig = "default" if r["sigma"] is None else f"{r['sigma']:g} fixed"
-    return f"{r['N']}² σ={sig} tol={r['tol']:.0e}"
+    return f"{r['N']}² σ={sig} tol={r['tol']:.0e}{crit}"
 
 
 def report(rows):
@@ -133,6 +139,10 @@ def report(rows):
                 else "JKR sphere (radius + 7 pull-off solves)")
         ax.loglog(t, e, mk, mfc="none", color="C0" if case == "sinusoid" else "C1",
                   label=f"{name}: all settings")
+        alt = [i for i, r in enumerate(rr) if r.get("criterion", "exact") != "exact"]
+        if alt:
+            ax.loglog(t[alt], e[alt], "x", color="C0" if case == "sinusoid" else "C1",
+                      label=f"{case}: predictor or hybrid criterion")
         idx = sorted(front, key=lambda i: t[i])
         ax.loglog(t[idx], e[idx], mk + "-", color="C0" if case == "sinusoid" else "C1",
                   label="Pareto front")
@@ -178,31 +188,42 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true", help="a few points only")
     ap.add_argument("--report-only", action="store_true",
                     help="redraw the figure and table from bench/accuracy.json")
+    ap.add_argument("--criteria-only", action="store_true",
+                    help="only the predictor and hybrid points, added to the exact-criterion "
+                         "rows of bench/accuracy.json")
     args = ap.parse_args(argv)
+    out = ROOT / "bench" / "accuracy.json"
     if args.report_only:
-        for g in report(json.loads((ROOT / "bench" / "accuracy.json").read_text())):
+        for g in report(json.loads(out.read_text())):
             print(g)
         return
-    plan = []
-    for z in ((0.1,) if args.quick else (0.1, 1.0)):
-        for m in ((1, 4) if args.quick else (1, 2, 4, 8)):
-            plan.append(("sin", z, m, 1e-10))
-        for tol in ((1e-6,) if args.quick else (1e-4, 1e-6, 1e-8)):
-            plan.append(("sin", z, 4, tol))
-    for n in ((128,) if args.quick else (128, 256, 512)):
-        plan.append(("jkr", n, None, 1e-10, True))
-    if not args.quick:
-        for sigma in (3.0, 6.0, 12.0):
-            plan.append(("jkr", 512, sigma, 1e-10, True))
-        for tol in (1e-6, 1e-8):
-            plan.append(("jkr", 256, None, tol, True))
-    rows = []
-    out = ROOT / "bench" / "accuracy.json"
+    rows, plan = [], []
+    if args.criteria_only:  # keep the exact-criterion rows, redo the others
+        rows = [r for r in json.loads(out.read_text()) if r.get("criterion", "exact") == "exact"]
+    else:
+        for z in ((0.1,) if args.quick else (0.1, 1.0)):
+            for m in ((1, 4) if args.quick else (1, 2, 4, 8)):
+                plan.append(("sin", z, m, 1e-10))
+            for tol in ((1e-6,) if args.quick else (1e-4, 1e-6, 1e-8)):
+                plan.append(("sin", z, 4, tol))
+        for n in ((128,) if args.quick else (128, 256, 512)):
+            plan.append(("jkr", n, None, 1e-10, True))
+        if not args.quick:
+            for sigma in (3.0, 6.0, 12.0):
+                plan.append(("jkr", 512, sigma, 1e-10, True))
+            for tol in (1e-6, 1e-8):
+                plan.append(("jkr", 256, None, tol, True))
+    for crit in ("predictor", "hybrid"):
+        for z in ((0.1,) if args.quick else (0.1, 1.0)):
+            for m in ((4,) if args.quick else (2, 4, 8)):
+                plan.append(("sin", z, m, 1e-10, crit))
+        for n in ((128,) if args.quick else (256, 512)):
+            plan.append(("jkr", n, None, 1e-10, True, crit))
     for item in plan:
         r = sinusoid_point(*item[1:]) if item[0] == "sin" else jkr_point(*item[1:])
         rows.append(r)
         out.write_text(json.dumps(rows, indent=1))  # every finished point is kept
-        print(f"{label(r):40s} {r['status']:13s} {r['seconds']:7.2f} s  max error "
+        print(f"{label(r):48s} {r['status']:13s} {r['seconds']:7.2f} s  max error "
               f"{r['error']:.2e}", flush=True)
     for g in report(rows):
         print(g)

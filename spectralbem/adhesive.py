@@ -30,6 +30,7 @@ from .criterion import (
     front_cells,
     front_tests,
     layers,
+    predictor_tests,
     sub_cell_offset,
 )
 from .masked import solve_masked
@@ -106,6 +107,44 @@ def _offsets(F_close, F_open, outer, inner, a0):
     return s_out, s_in
 
 
+def _moves(tests, mask, outer, inner, a0, hmin, w, pinned, sign_rule=False):
+    """The sub-cell offsets and the cells that join (add) and leave (remove) the mask.
+
+    Dead band of ±0.6 h: the outputs use the sub-cell front l*, so the cell boundary only has
+    to lie near it; a band wider than ½ h stops two-state lattice cycles (under load control
+    the Δ update couples the edges).  A band cell at distance d from the front joins (leaves)
+    when its front cell's balanced edge lies beyond d − (1 − DEAD_BAND) h: up to m layers per
+    iteration.  A cell opens only where its opening leaves a gap (no interpenetration):
+    otherwise the nucleation step would close it again at once (an open/close cycle).
+
+    ``sign_rule`` (the predictor): its closing and opening estimates are the same product at
+    a front (½ t_i g_j a), so there is no slope to interpolate a sub-cell edge from; the band
+    joins where F_close < −ε (closing costs less elastic work than the adhesion it gains: the
+    balanced edge lies ahead, as in :func:`criterion.sub_cell_offset`) and leaves where
+    F_open > ε, one band per iteration.  ε = 4.7 h/r, the predictor's own error
+    (criterion.md §4.3) at the mean front radius r = 2A/P of the mask: inside it only the
+    exact tests can tell."""
+    if sign_rule:
+        n_front = max(1, int(outer.sum()))
+        eps = min(0.5, 4.7 * n_front / (2.0 * mask.sum())) if mask.any() else 0.5
+        s_out = np.where(tests.F_close < -eps, np.inf, -np.inf)
+        s_in = np.where(tests.F_open > eps, -np.inf, np.inf)
+    else:
+        s_out, s_in = _offsets(tests.F_close, tests.F_open, outer, inner, a0)
+    b = tests.bands
+    slack = (1.0 - DEAD_BAND) * hmin
+    ob = np.flatnonzero(b.outer_band)  # band cells, each with its owning front cell
+    add = np.zeros(mask.shape, bool)
+    add.ravel()[ob] = (s_out.ravel()[b.outer_owner.ravel()[ob]]
+                       > b.outer_dist.ravel()[ob] - slack)
+    gtol = 1e-12 * max(1.0, float(np.abs(w).max()))
+    ib = np.flatnonzero(b.inner_band & ~pinned & ~(tests.g_open < -gtol))
+    remove = np.zeros(mask.shape, bool)
+    remove.ravel()[ib] = (s_in.ravel()[b.inner_owner.ravel()[ib]]
+                          < -(b.inner_dist.ravel()[ib] - slack))
+    return s_out, s_in, add, remove
+
+
 def _nucleation_flaw(op, h, mean_pressure, penetration, a0):
     """The documented rule for leaving full contact: a flaw, the disc of radius a0 centred on
     the cell of largest tension of the full-contact solution (at the prescribed load; under
@@ -132,8 +171,15 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
                    mask0: np.ndarray | None = None, max_outer: int = 500,
                    front_smoothing: float = FRONT_SMOOTHING,
                    smoothing_per_radius: float = SMOOTHING_PER_RADIUS,
-                   rtol: float = 1e-10, observables: dict | None = None) -> AdhesiveResult:
+                   rtol: float = 1e-10, observables: dict | None = None,
+                   criterion: str = "exact") -> AdhesiveResult:
     """Adhesive equilibrium under penetration or mean-pressure control.
+
+    ``criterion``: 'exact' (every iteration tests the front layers with masked solves),
+    'hybrid' (the zero-solve predictor of criterion.md §4.3 moves the front until it stops,
+    then the exact tests finish) or 'predictor' (the predictor alone; the exact tests are
+    evaluated once on the final mask, for the outputs — cheaper, less accurate: see the
+    accuracy-cost map in docs/performance.md).
 
     ``dgamma``: work of adhesion Δγ (J/m², scalar or per-cell map); ``a0``: advance width (m),
     at least one cell.  ``front_smoothing``: σ (cells) of the average along the front
@@ -159,9 +205,13 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     if not (hmin * (1 - 1e-9) <= a0 <= a0_max):
         raise ValueError(f"a0 = {a0!r} m is outside the allowed range [{hmin!r}, {a0_max!r}] "
                          "m (one cell to half the cell)")
+    if criterion not in ("exact", "hybrid", "predictor"):
+        raise ValueError(f"criterion = {criterion!r}; allowed: 'exact', 'hybrid', 'predictor'")
+    phase = "exact" if criterion == "exact" else "predictor"
+    test_kw = dict(rtol=rtol, vhat=sliding_direction(op), front_smoothing=front_smoothing,
+                   smoothing_per_radius=smoothing_per_radius, observables=observables)
     a0 = layers(a0, cell.hx, cell.hy) * hmin  # the band width actually used (m layers)
     hmax = float(h.max())
-    vhat = sliding_direction(op)
     mask = (h >= hmax - 1e-12 * max(1.0, abs(hmax))) if mask0 is None else mask0.copy()
     delta = penetration
     p = np.zeros(cell.shape)
@@ -225,39 +275,42 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
             pinned |= pen & last_removed
             mask |= pen
             continue
-        tests = front_tests(op, w, mask, p, dgamma, a0, rtol=rtol, vhat=vhat,
-                            front_smoothing=front_smoothing,
-                            smoothing_per_radius=smoothing_per_radius,
-                            observables=observables, u=u)
+        if phase == "predictor":
+            tests = predictor_tests(op, w, mask, p, dgamma, a0, u=u,
+                                    front_smoothing=front_smoothing,
+                                    smoothing_per_radius=smoothing_per_radius)
+        else:
+            tests = front_tests(op, w, mask, p, dgamma, a0, u=u, **test_kw)
         solves += tests.solves
         if not tests.converged:
             message = "layer test: " + tests.message
             break
         outer, inner = front_cells(mask)
-        s_out, s_in = _offsets(tests.F_close, tests.F_open, outer, inner, a0)
-        # dead band of ±0.6 h: the outputs use the sub-cell front l*, so the cell boundary only
-        # has to lie near it; a band wider than ½ h stops two-state lattice cycles (under load
-        # control the Δ update couples the edges)
-        # a band cell at distance d from the front joins (leaves) when its front cell's
-        # balanced edge lies beyond d - (1 - DEAD_BAND) h: up to m layers per iteration
-        b = tests.bands
-        slack = (1.0 - DEAD_BAND) * hmin
-        ob = np.flatnonzero(b.outer_band)  # band cells, each with its owning front cell
-        add = np.zeros(mask.shape, bool)
-        add.ravel()[ob] = (s_out.ravel()[b.outer_owner.ravel()[ob]]
-                           > b.outer_dist.ravel()[ob] - slack)
-        # a cell opens only where its opening leaves a gap (no interpenetration): otherwise
-        # the nucleation step would close it again at once (an open/close cycle)
-        gtol = 1e-12 * max(1.0, float(np.abs(w).max()))
-        ib = np.flatnonzero(b.inner_band & ~pinned & ~(tests.g_open < -gtol))
-        remove = np.zeros(mask.shape, bool)
-        remove.ravel()[ib] = (s_in.ravel()[b.inner_owner.ravel()[ib]]
-                              < -(b.inner_dist.ravel()[ib] - slack))
+        s_out, s_in, add, remove = _moves(tests, mask, outer, inner, a0, hmin, w, pinned,
+                                          sign_rule=phase == "predictor")
+        key = hash(mask.tobytes())
+        if phase == "predictor" and ((not add.any() and not remove.any()) or key in seen):
+            # the predictor has brought the front to (or cycling around) its balance: the
+            # exact tests take over ("hybrid"), or only evaluate the outputs ("predictor")
+            tests = front_tests(op, w, mask, p, dgamma, a0, u=u, **test_kw)
+            solves += tests.solves
+            if not tests.converged:
+                message = "layer test: " + tests.message
+                break
+            if criterion == "predictor":
+                s_out, _ = _offsets(tests.F_close, tests.F_open, outer, inner, a0)
+                history.append((it, int(mask.sum()), 0, 0, float(delta)))
+                converged, status = True, "partial"
+                message = "converged (predictor criterion; exact tests of the final mask)"
+                break
+            phase = "exact"
+            seen.clear()
+            states.clear()
+            s_out, s_in, add, remove = _moves(tests, mask, outer, inner, a0, hmin, w, pinned)
         history.append((it, int(mask.sum()), int(add.sum()), int(remove.sum()), float(delta)))
         if not add.any() and not remove.any():
             converged, status, message = True, "partial", "converged"
             break
-        key = hash(mask.tobytes())
         if key in seen:
             # a lattice cycle: accept when the balanced front lies within one cell of the
             # mask boundary at (nearly) every front cell — the outputs use the sub-cell front
@@ -291,7 +344,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
             break
         mask = (mask | add) & ~remove
         # the tests and bands of the old mask: freed before the next state's solves
-        tests = b = s_in = add = None
+        tests = s_in = add = None
         last_removed = remove
     else:  # the guard ran out on a nucleation step
         message = f"not converged in {max_outer} outer iterations"

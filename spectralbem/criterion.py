@@ -301,6 +301,77 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
                      solves, bool(ok), msg)
 
 
+def _mirror(field_: np.ndarray, valid: np.ndarray, cells: np.ndarray, owners: np.ndarray,
+            normal, shift: float, spacing) -> np.ndarray:
+    """``field_`` at the points x_c + shift·n̂(owner) of the cells ``cells`` (flat), by
+    bilinear interpolation over the ``valid`` cells only (periodic): Σ w f / Σ w over the
+    valid corners (nan where none is valid)."""
+    nx_, ny_ = normal
+    shape = field_.shape
+    i, j = np.divmod(cells, shape[1])
+    ci = i + shift * nx_.ravel()[owners] / spacing[0]
+    cj = j + shift * ny_.ravel()[owners] / spacing[1]
+    v = valid.astype(float)
+    num = ndimage.map_coordinates(np.where(valid, field_, 0.0), [ci, cj], order=1,
+                                  mode="grid-wrap")
+    den = ndimage.map_coordinates(v, [ci, cj], order=1, mode="grid-wrap")
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(den > 1e-12, num / np.maximum(den, 1e-300), np.nan)
+
+
+def predictor_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.ndarray,
+                    dgamma, a0: float, *, u: np.ndarray | None = None,
+                    front_smoothing: float = FRONT_SMOOTHING,
+                    smoothing_per_radius: float = SMOOTHING_PER_RADIUS) -> FrontTest:
+    """The zero-extra-solve predictor of criterion.md §4.3 (modified VCCT): the closing and
+    opening balances of :func:`front_tests` with the post-perturbation fields replaced by the
+    current ones translated by a0 along the front normal (the tip field assumed to move
+    rigidly): a closing-band cell gets the pressure found a0 inside it, δL_j = −½ a g_j(A)
+    p(x_j − a0 n̂); an opening-band cell gets the gap found a0 outside it.  With one layer
+    this is ½ t_i g_j a of the inner neighbour.  Error ≈ 4.7 h/a in δL (criterion.md App. A1):
+    use it to bring the front near balance, then the exact tests.  No solves; the energy
+    split (δU, δL_P, G_close) is not available (nan).
+    """
+    cell = op.cell
+    area = cell.cell_area
+    dg = np.asarray(dgamma, dtype=float)
+    b = bands(mask, cell.hx, cell.hy, a0)
+    a0 = layers(a0, cell.hx, cell.hy) * min(cell.hx, cell.hy)
+    if u is None:
+        u = op.apply(p)
+    g = u - w
+    normal = b.normal
+    F_close = np.full(mask.shape, np.nan)
+    F_open = np.full(mask.shape, np.nan)
+    g_open = np.full(mask.shape, np.nan)
+    W_close = np.zeros(mask.shape)
+    W_open = np.zeros(mask.shape)
+
+    def dg_area(cells):
+        return area * (dg.ravel()[cells] if dg.ndim else np.full(cells.size, float(dg)))
+
+    cells = np.flatnonzero(b.outer_band)
+    if cells.size:
+        own = b.outer_owner.ravel()[cells]
+        p_plus = _mirror(p, mask, cells, own, normal, -a0, b.spacing)
+        dL = -0.5 * area * g.ravel()[cells] * np.nan_to_num(p_plus)
+        _balance(dL, cells, own, dg_area(cells), F_close, W_close)
+    cells = np.flatnonzero(b.inner_band)
+    if cells.size:
+        own = b.inner_owner.ravel()[cells]
+        g_minus = _mirror(g, ~mask, cells, own, normal, a0, b.spacing)
+        g_open.ravel()[cells] = g_minus
+        dL = -0.5 * area * np.nan_to_num(g_minus) * p.ravel()[cells]
+        _balance(dL, cells, own, dg_area(cells), F_open, W_open)
+    sig_out, sig_in = patch_sigmas(mask, b.outer_front, b.inner_front, front_smoothing,
+                                   smoothing_per_radius)
+    F_close = smooth_along_front(F_close, b.outer_front, sig_out, W_close)
+    F_open = smooth_along_front(F_open, b.inner_front, sig_in, W_open)
+    nan = np.full(mask.shape, np.nan)
+    return FrontTest(F_close, F_open, nan, np.zeros(mask.shape), g_open, {}, {},
+                     [np.ones(mask.shape, bool)], b, 0, True, "predictor (no solves)")
+
+
 def adjoint_weights(op: SpectralOperator, mask: np.ndarray, p: np.ndarray,
                     rtol: float = 1e-10) -> np.ndarray:
     """ψ = -C^O p - Cᵀ λ̃ with C_AAᵀ λ = (-C^O p)|_A (one transposed masked solve).

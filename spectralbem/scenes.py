@@ -385,7 +385,8 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
                            mean_pressure=scene.p_mean, mask0=mask0, rtol=rtol,
                            observables=obs, max_outer=scene.solver["max_outer"],
                            front_smoothing=scene.solver.get("front_smoothing", 6.0),
-                           smoothing_per_radius=scene.solver.get("smoothing_per_radius", 0.23))
+                           smoothing_per_radius=scene.solver.get("smoothing_per_radius", 0.23),
+                           criterion=scene.solver.get("criterion", "exact"))
         p, mask, delta, status = r.pressure, r.mask, r.penetration, r.status
         a0e = r.a0_effective
         u = op.apply(p)
@@ -525,7 +526,8 @@ def _solve_grid(scene: Scene, mask0=None):
                            mean_pressure=scene.p_mean, mask0=mask0, rtol=tol,
                            max_outer=scene.solver["max_outer"],
                            front_smoothing=scene.solver.get("front_smoothing", 6.0),
-                           smoothing_per_radius=scene.solver.get("smoothing_per_radius", 0.23))
+                           smoothing_per_radius=scene.solver.get("smoothing_per_radius", 0.23),
+                           criterion=scene.solver.get("criterion", "exact"))
         p, mask, delta, status = r.pressure, r.mask, r.penetration, r.status
         u = op.apply(p)
         msg = r.message

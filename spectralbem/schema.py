@@ -114,6 +114,10 @@ SECTIONS = {
         "smoothing_per_radius": _k("number", "σ grows to this fraction of the front "
                                    "radius 2A/P of large contact patches (0: σ fixed)", "", 0, 1,
                                    default=0.23),
+        "criterion": _k("string", "front criterion of adhesive scenes: exact layer tests, the "
+                        "zero-solve predictor then exact tests (hybrid), or the predictor "
+                        "alone (predictor; less accurate, see docs/performance.md)",
+                        choices=("exact", "hybrid", "predictor"), default="exact"),
     },
     "output": {
         "fields": _k("boolean", "store the 2D fields (pressure, gap, ...) in the dataset",

@@ -666,7 +666,12 @@ class Sinusoid1D:
         """:meth:`equilibrium` from ``guess``, then from each of :meth:`guesses`."""
         control, value = ("delta", delta) if delta is not None else ("p_mean", p_mean)
         st = None
+        tried = []
         for g in ([guess] if guess is not None else []) + self.guesses(control, value):
+            g = np.asarray(g, dtype=float)
+            if any(np.allclose(g, t, rtol=1e-9, atol=0) for t in tried):
+                continue  # the same start again (e.g. |E(kv)| ≈ E0 at small ζ) would fail again
+            tried.append(g)
             st = self.equilibrium(guess=g, **{control: value})
             if st.info["converged"]:
                 break

@@ -442,8 +442,9 @@ class Sinusoid1D:
         self.M = int(modes)
         if quad is None:  # resolve the kernel's relaxation length v/ω_c across a period
             quad = 1024  # elastic: the smooth part log sinc(θ/2π) is analytic
-            if self.kernel.visco:  # 0.5 λ/ℓ nodes (a fast DCT length), 1024 to 16384
-                need = np.clip(0.5 * self.lam / self.kernel.scale, 1024, 16384)
+            if self.kernel.visco:  # 0.5 λ/ℓ nodes (a fast DCT length), 2048 to 16384: with
+                # 1024 the adhesiveless state's ẽ at ζ = 5e-3 was 3e-5 off (2048: 1e-7)
+                need = np.clip(0.5 * self.lam / self.kernel.scale, 2048, 16384)
                 quad = int(sfft.next_fast_len(int(np.ceil(need)), real=True))
         self.Q = int(quad)
         self.strip_nodes = strip_nodes

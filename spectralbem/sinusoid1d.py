@@ -1121,6 +1121,19 @@ def special_points(zeta: float, beta: float, Gamma: float, *, a0_tilde: float,
         return st.p_mean / pr.p_star(), st.delta / pr.amp
 
     vals = np.array([at(a) for a in a_grid])
+    for _ in range(3):
+        # the branch solver can lose the branch between two coarse grid points near the
+        # snap-in (measured: ζ = 0.1, ã0 = 1e-3, lost after ã = 1.93, found again up to 2.25
+        # in steps of 0.05): where the load maximum is the last converged point and a failed
+        # point follows, the gap is traced again in smaller steps (warm starts)
+        ok = np.isfinite(vals[:, 0])
+        last = np.flatnonzero(ok)
+        if last.size == 0 or int(np.argmax(vals[ok, 0])) != last.size - 1 \
+                or last[-1] == a_grid.size - 1:
+            break
+        fill = np.linspace(a_grid[last[-1]], a_grid[last[-1] + 1], 6)[1:-1]
+        a_grid = np.insert(a_grid, last[-1] + 1, fill)
+        vals = np.insert(vals, last[-1] + 1, [at(a) for a in fill], axis=0)
     ok = np.isfinite(vals[:, 0])
     A, P, D = a_grid[ok], vals[ok, 0], vals[ok, 1]
 

@@ -210,6 +210,19 @@ def test_equilibrium_rejects_a_state_that_interpenetrates(monkeypatch):
     assert bad.info["interpenetration"] > 1e-3 and "inadmissible" in bad.info["message"]
 
 
+def test_special_points_retrace_a_branch_lost_near_snap_in():
+    """ζ = 0.1, ã0 = 1e-3: on the coarse ã grid the branch solver loses the branch after
+    ã = 1.93 while the load still rises, so the snap-in maximum used to be nan; the gap is
+    now traced again in smaller steps and the maximum is interior (the largest load on the
+    traced branch, within the refine's xatol: values are flat there, 1e-8)."""
+    sp = s1.special_points(0.1, 10.0, 0.008, a0_tilde=1e-3, n=16, cheb=8)
+    br = sp["branch"]
+    assert np.isfinite(sp["p_max"]) and np.isfinite(sp["a_pmax"])
+    assert sp["p_max"] >= np.max(br["p_tilde"]) - 1e-8
+    assert br["a_tilde"][0] < sp["a_pmax"] < br["a_tilde"][-1]
+    assert np.isfinite(sp["T"]) and sp["p_min"] < 0
+
+
 def test_bad_inputs():
     with pytest.raises(ValueError, match="beta"):
         s1.solve(0.1, 0.5, GAMMA, p_tilde=0.1, a0_tilde=0.01)

@@ -108,6 +108,9 @@ def solve_masked(op: SpectralOperator, mask: np.ndarray, rhs: np.ndarray, *, x0=
     restart : GMRES restart length; default ``RESTART_MAX`` (300) as far as its Krylov basis
         fits in ``RESTART_BYTES`` (200 MB), at least 60.  Measured on the rough 256² mask at
         β = 1e4, ζ = 10: GMRES(60) needs 5894 products, GMRES(300) 1370 (the guard is 2065).
+        The basis exists only in the fallback; it can exceed the adhesive solve's memory
+        budget of 25 N² arrays on mid-size grids (a 26k-cell mask at 512²: 63 MB, 30 arrays),
+        which is why the cap is in bytes.
     """
     sys_ = MaskedSystem(op, mask, transpose=transpose)
     n = sys_.n

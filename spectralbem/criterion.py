@@ -178,6 +178,21 @@ def _balance(dL, cells, owner, dg_area, F, W):  # dg_area: Δγ·a on ``cells``
     return owners, num, has, slot
 
 
+def _dg_area(dg: np.ndarray, area: float, cells: np.ndarray) -> np.ndarray:
+    """Δγ·a on the flat ``cells`` (a scalar Δγ is never expanded to the grid)."""
+    return area * (dg.ravel()[cells] if dg.ndim else np.full(cells.size, float(dg)))
+
+
+def _front_average(b: Bands, F_close, W_close, F_open, W_open, sigma: float,
+                   per_radius: float):
+    """The closing and opening balances averaged along their fronts (ratio of sums, each
+    front cell weighing by its band's Δγ·area), with the per-patch σ of
+    :func:`patch_sigmas`."""
+    sig_out, sig_in = patch_sigmas(b.mask, b.outer_front, b.inner_front, sigma, per_radius)
+    return (smooth_along_front(F_close, b.outer_front, sig_out, W_close),
+            smooth_along_front(F_open, b.inner_front, sig_in, W_open))
+
+
 def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.ndarray,
                 dgamma, a0: float, *, rtol: float = 1e-10, vhat=(1.0, 0.0),
                 observables: dict | None = None, front_smoothing: float = FRONT_SMOOTHING,
@@ -199,9 +214,6 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     cell = op.cell
     area = cell.cell_area
     dg = np.asarray(dgamma, dtype=float)
-
-    def dg_area(cells):  # Δγ·a on the cells (a scalar Δγ is never expanded to the grid)
-        return area * (dg.ravel()[cells] if dg.ndim else np.full(cells.size, float(dg)))
 
     b = bands(mask, cell.hx, cell.hy, a0)
     if u is None:
@@ -250,8 +262,8 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             dLP = 0.5 * area * (np.vdot(up, p) - np.vdot(u, pp))
             closing[ci] = (float(dL.sum()), float(dU), float(dLP), float(cells.size * area),
                            observe(pp))
-            owners, num, has, slot = _balance(dL, cells, own[cells], dg_area(cells), F_close,
-                                              W_close)
+            owners, num, has, slot = _balance(dL, cells, own[cells],
+                                              _dg_area(dg, area, cells), F_close, W_close)
             # per-cell δL_P from the adjoint weights (criterion.md §4.6); zero when elastic
             if op.viscoelastic:  # cells ⊂ the outer band, both sorted
                 dLPj = area * ppD * psi_band[np.searchsorted(band_cells, cells)]
@@ -286,16 +298,14 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             dLP = 0.5 * area * (np.vdot(u, pr) - np.vdot(ur, p))
             opening[ci] = (float(dL.sum()), float(dU), float(dLP), float(cells.size * area),
                            observe(pr))
-            _balance(dL, cells, own_i[cells], dg_area(cells), F_open, W_open)
+            _balance(dL, cells, own_i[cells], _dg_area(dg, area, cells), F_open, W_open)
             del pr, ur
             res = None
     # ratio of sums along the front: each front cell weighs by its band's Δγ·area, so that
     # owners of unequal band patches (staircase corners) do not bias the local balance
-    sig_out, sig_in = patch_sigmas(mask, b.outer_front, b.inner_front, front_smoothing,
-                                   smoothing_per_radius)
-    F_close = smooth_along_front(F_close, b.outer_front, sig_out, W_close)
+    F_close, F_open = _front_average(b, F_close, W_close, F_open, W_open, front_smoothing,
+                                     smoothing_per_radius)
     F_close[force_close] = -np.inf
-    F_open = smooth_along_front(F_open, b.inner_front, sig_in, W_open)
     solves += bool(op.viscoelastic)
     return FrontTest(F_close, F_open, G_close, dLP_cells, g_open, closing, opening, cols, b,
                      solves, bool(ok), msg)
@@ -347,26 +357,21 @@ def predictor_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np
     W_close = np.zeros(mask.shape)
     W_open = np.zeros(mask.shape)
 
-    def dg_area(cells):
-        return area * (dg.ravel()[cells] if dg.ndim else np.full(cells.size, float(dg)))
-
     cells = np.flatnonzero(b.outer_band)
     if cells.size:
         own = b.outer_owner.ravel()[cells]
         p_plus = _mirror(p, mask, cells, own, normal, -a0, b.spacing)
         dL = -0.5 * area * g.ravel()[cells] * np.nan_to_num(p_plus)
-        _balance(dL, cells, own, dg_area(cells), F_close, W_close)
+        _balance(dL, cells, own, _dg_area(dg, area, cells), F_close, W_close)
     cells = np.flatnonzero(b.inner_band)
     if cells.size:
         own = b.inner_owner.ravel()[cells]
         g_minus = _mirror(g, ~mask, cells, own, normal, a0, b.spacing)
         g_open.ravel()[cells] = g_minus
         dL = -0.5 * area * np.nan_to_num(g_minus) * p.ravel()[cells]
-        _balance(dL, cells, own, dg_area(cells), F_open, W_open)
-    sig_out, sig_in = patch_sigmas(mask, b.outer_front, b.inner_front, front_smoothing,
-                                   smoothing_per_radius)
-    F_close = smooth_along_front(F_close, b.outer_front, sig_out, W_close)
-    F_open = smooth_along_front(F_open, b.inner_front, sig_in, W_open)
+        _balance(dL, cells, own, _dg_area(dg, area, cells), F_open, W_open)
+    F_close, F_open = _front_average(b, F_close, W_close, F_open, W_open, front_smoothing,
+                                     smoothing_per_radius)
     nan = np.full(mask.shape, np.nan)
     return FrontTest(F_close, F_open, nan, np.zeros(mask.shape), g_open, {}, {},
                      [np.ones(mask.shape, bool)], b, 0, True, "predictor (no solves)")

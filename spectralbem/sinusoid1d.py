@@ -286,8 +286,19 @@ class Domain:
     Q: int
 
     def __post_init__(self):
-        self.c = 0.5 * (self.l2 - self.l1)
-        self.a = 0.5 * (self.l1 + self.l2)
+        self._geometry(0.5 * (self.l1 + self.l2), 0.5 * (self.l2 - self.l1))
+
+    @classmethod
+    def centred(cls, a: float, c: float, M: int, Q: int) -> Domain:
+        """The domain of half-width a centred at c (a kept exactly: it keys the shape cache
+        of :meth:`Sinusoid1D.shape`)."""
+        dom = cls.__new__(cls)
+        dom.l1, dom.l2, dom.M, dom.Q = a - c, a + c, M, Q
+        dom._geometry(a, c)
+        return dom
+
+    def _geometry(self, a, c):
+        self.a, self.c = float(a), float(c)
         j = np.arange(1, self.M + 1)
         self.xi = np.cos((2 * j - 1) * np.pi / (2 * self.M))
         self.x = self.c + self.a * self.xi
@@ -388,6 +399,25 @@ class EdgeWork:
     gap_sign: float = 1.0  # sign of ∫ g₋ on the strip: -1 means the base state interpenetrates
 
 
+class _Balanced(Exception):
+    """Raised by the residual of :meth:`Sinusoid1D.equilibrium` once both edges balance."""
+
+    def __init__(self, x, fun):
+        super().__init__("balanced")
+        self.x, self.fun = x, fun
+
+
+@dataclass
+class _Shape:
+    """A domain's half-width-only data (:meth:`Sinusoid1D.shape`): the domain centred at 0,
+    the solutions of Eq. (15) for the right-hand sides cos kaξ − 1, sin kaξ and 1 (columns),
+    and the response matrices of the edge strips by (side, a0)."""
+
+    domain: Domain
+    sol: np.ndarray
+    strips: dict = field(default_factory=dict)
+
+
 @dataclass
 class State:
     domain: Domain
@@ -448,6 +478,7 @@ class Sinusoid1D:
                 quad = int(sfft.next_fast_len(int(np.ceil(need)), real=True))
         self.Q = int(quad)
         self.strip_nodes = strip_nodes
+        self._shapes: dict[float, _Shape] = {}  # see :meth:`shape`
         self.Estar_tip = self.kernel.E_tip / (1 - material.nu**2)
 
     # -- profile ------------------------------------------------------------------------
@@ -456,19 +487,56 @@ class Sinusoid1D:
         return self.amp * (np.cos(self.k * np.asarray(x)) - 1.0) + delta
 
     # -- one domain -----------------------------------------------------------------------
+    def shape(self, a: float) -> _Shape:
+        """What a contact domain's solution owes to its half-width a alone (cached).
+
+        The kernel depends on x − x' only, so the response matrix of Eq. (15) at a domain's own
+        collocation points depends on a, not on the centre c; and the prescribed displacement
+        Λ(cos k(c + aξ) − 1) = Λ[cos kc (cos kaξ − 1) + (cos kc − 1) − sin kc sin kaξ] is a
+        combination of three c-independent right-hand sides.  One build and one solve per a
+        serve every centre and penetration: the eccentricity costs nothing, and the advanced
+        domains of both edges (half-width a + a0/2) share one build.
+        """
+        key = float(a)
+        sh = self._shapes.pop(key, None)
+        if sh is None:
+            dom = Domain.centred(key, 0.0, self.M, self.Q)
+            A = dom.response(self.kernel, dom.x)
+            kx = self.k * key * dom.xi
+            rhs = np.column_stack([-2.0 * np.sin(0.5 * kx) ** 2, np.sin(kx), np.ones(self.M)])
+            sh = _Shape(dom, np.linalg.solve(A, rhs))
+        self._shapes[key] = sh  # most recent last
+        while len(self._shapes) > 8:
+            self._shapes.pop(next(iter(self._shapes)))
+        return sh
+
+    def pair_at(self, a: float, c: float):
+        """Eq. (15) on the domain of half-width a centred at c for the two unit loadings:
+        (domain, c_w, c_1), the state at penetration Δ having the Chebyshev coefficients
+        c_w + Δ c_1 (the problem is linear in Δ)."""
+        sh = self.shape(a)
+        kc = self.k * c
+        S = sh.sol
+        cw = self.amp * (np.cos(kc) * S[:, 0] - 2.0 * np.sin(0.5 * kc) ** 2 * S[:, 2]
+                         - np.sin(kc) * S[:, 1])
+        return Domain.centred(sh.domain.a, c, self.M, self.Q), cw, S[:, 2].copy()
+
     def domain_pair(self, l1, l2):
-        """Eq. (15) on [-l1, l2] for the two unit loadings: (domain, c_w, c_1) with the state at
-        penetration Δ given by the Chebyshev coefficients c_w + Δ c_1 (the problem is linear
-        in Δ)."""
-        dom = Domain(l1, l2, self.M, self.Q)
-        A = dom.response(self.kernel, dom.x)
-        rhs = np.column_stack([self.amp * (np.cos(self.k * dom.x) - 1.0), np.ones(self.M)])
-        sol = np.linalg.solve(A, rhs)
-        return dom, sol[:, 0], sol[:, 1]
+        """:meth:`pair_at` for the domain [-l1, l2]."""
+        return self.pair_at(0.5 * (l1 + l2), 0.5 * (l2 - l1))
+
+    def advanced_pair(self, dom: Domain, side: int, a0: float):
+        """:meth:`pair_at` for ``dom`` grown by a0 at edge ``side`` (1 trailing, 2 leading):
+        both edges' advances share the half-width a + a0/2."""
+        return self.pair_at(dom.a + 0.5 * a0, dom.c + (-0.5 if side == 1 else 0.5) * a0)
 
     def solve_domain(self, l1, l2, *, delta=None, p_mean=None) -> State:
         """Solve Eq. (15) on [-l1, l2] at given Δ, or at given mean pressure p∞ (Δ solved)."""
-        dom, cw, c1 = self.domain_pair(l1, l2)
+        return self.state_of(self.domain_pair(l1, l2), delta=delta, p_mean=p_mean)
+
+    def state_of(self, pair, *, delta=None, p_mean=None) -> State:
+        """The state of a :meth:`pair_at` at given Δ or mean pressure p∞ (Δ solved)."""
+        dom, cw, c1 = pair
         if delta is None:
             # p∞ = a π c0 / λ fixes Δ
             delta = (p_mean * self.lam / (dom.a * np.pi) - cw[0]) / c1[0]
@@ -489,11 +557,8 @@ class Sinusoid1D:
         K = np.array([dom.sif(cw)[side - 1], dom.sif(c1)[side - 1]])
         if self.a0 == 0.0:
             return K, None, None
-        l1, l2 = dom.l1, dom.l2
-        adv, aw, a1 = (self.domain_pair(l1 + self.a0, l2) if side == 1
-                       else self.domain_pair(l1, l2 + self.a0))
-        xs, ws = self._strip_points(dom, side, self.a0, 0.5)
-        R = dom.response(self.kernel, xs)
+        adv, aw, a1 = self.advanced_pair(dom, side, self.a0)
+        xs, ws, R = self._strip(dom, side, self.a0)
         g0 = R @ cw - self.amp * (np.cos(self.k * xs) - 1.0)
         g1 = R @ c1 - 1.0
         p0, p1 = adv.pressure(aw, xs), adv.pressure(a1, xs)
@@ -554,9 +619,21 @@ class Sinusoid1D:
         (distance to old edge)^beta.  Returns (x, weights already divided by the weight)."""
         t, wq = roots_jacobi(self.strip_nodes, -0.5, beta)  # (1-t)^-½ (1+t)^beta
         # t = -1 at the old edge, t = +1 at the new edge
-        x = (-base.l1 - a0 * (1 + t) / 2) if side == 1 else (base.l2 + a0 * (1 + t) / 2)
+        off = base.a + a0 * (1 + t) / 2  # distance from the centre
+        x = base.c + (-off if side == 1 else off)
         wfac = (1 - t) ** -0.5 * (1 + t) ** beta
         return x, (a0 / 2) * wq / wfac
+
+    def _strip(self, base: Domain, side: int, a0: float):
+        """(x, weights, response matrix) on the strip of width a0 outside edge ``side`` of
+        ``base`` for g₋ p₊ ~ (old edge)^½ (new edge)^-½; the matrix depends on the half-width
+        only and is cached with :meth:`shape`."""
+        xs, ws = self._strip_points(base, side, a0, 0.5)
+        sh = self.shape(base.a)
+        key = (side, float(a0))
+        if key not in sh.strips:
+            sh.strips[key] = sh.domain.response(self.kernel, xs - base.c)
+        return xs, ws, sh.strips[key]
 
     def edge_work(self, base: State, side: int, a0: float | None = None):
         """(advanced state, EdgeWork) for closing the strip of width a0 outside edge ``side``.
@@ -567,10 +644,9 @@ class Sinusoid1D:
         """
         a0 = self.a0 if a0 is None else a0
         l1, l2 = base.l1, base.l2
-        adv = (self.solve_domain(l1 + a0, l2, delta=base.delta) if side == 1
-               else self.solve_domain(l1, l2 + a0, delta=base.delta))
-        xs, ws = self._strip_points(base, side, a0, 0.5)  # for g₋ p₊ ~ (old)^½ (new)^-½
-        g_minus = self.gap(base, xs)
+        adv = self.state_of(self.advanced_pair(base.domain, side, a0), delta=base.delta)
+        xs, ws, R = self._strip(base.domain, side, a0)  # for g₋ p₊ ~ (old)^½ (new)^-½
+        g_minus = R @ base.coef - self.w(xs, base.delta)
         gap_sign = float(np.sign(np.sum(ws * g_minus)))
         dL = -0.5 * float(np.sum(ws * g_minus * adv.domain.pressure(adv.coef, xs)))
         bd, ad = base.domain, adv.domain
@@ -607,11 +683,12 @@ class Sinusoid1D:
 
     # -- equilibrium --------------------------------------------------------------------
     def _residual(self, y, control, value):
-        """Edge residuals (trailing, leading) of the domain [-l1, l2] at given Δ or p∞."""
-        l1, l2 = y
-        if not (l1 + l2 > 0 and l1 + l2 < self.lam * 0.999):
+        """Edge residuals (trailing, leading) of the domain of half-width a centred at c,
+        y = (a, c), at given Δ or p∞."""
+        a, c = y
+        if not (a > 0 and 2 * a < self.lam * 0.999):
             return np.array([1e3, 1e3])
-        pair = self.domain_pair(l1, l2)
+        pair = self.pair_at(a, c)
         dom, cw, c1 = pair
         delta = (value if control == "delta"
                  else (value * self.lam / (dom.a * np.pi) - cw[0]) / c1[0])
@@ -622,7 +699,8 @@ class Sinusoid1D:
         """p* = E0* k Λ/2 (Westergaard full-contact pressure), with E0 = ``E_ref``."""
         return self.E_ref / (1 - self.material.nu**2) * self.k * self.amp / 2
 
-    def equilibrium(self, *, delta=None, p_mean=None, guess=None, tol=1e-11, ftol=1e-8):
+    def equilibrium(self, *, delta=None, p_mean=None, guess=None, tol=1e-11, ftol=1e-8,
+                    fatol=1e-10):
         """Partial-contact equilibrium at given Δ or p∞ from a guess (l1, l2).
 
         A state whose surface crosses the rigid profile outside the contact (by more than
@@ -632,25 +710,42 @@ class Sinusoid1D:
 
         Converged when both edge residuals ``√(δL_i/(a0 Δγ)) - 1`` (or the SIF residuals) are
         below ``ftol`` — MINPACK's own flag is not used, since at tiny a0 the residual has a
-        noise floor of ~1e-10 that stops its step-size test, not the balance.
+        noise floor of ~1e-10 that stops its step-size test, not the balance.  The search
+        stops as soon as both residuals are below ``fatol`` (the edges then sit within
+        ~fatol/k of the balance; MINPACK's step test alone took as many evaluations again
+        at the residuals' round-off level, measured at ζ = 1e-3), or at its step size ``tol``.
         """
         control, value = ("delta", delta) if delta is not None else ("p_mean", p_mean)
         if guess is None:
             guess = self.elastic_guess(control, value)
-        sol = root(self._residual, np.asarray(guess, float), args=(control, value),
-                   method="hybr", options={"xtol": tol})
-        l1, l2 = sol.x
-        ok = bool(np.all(np.abs(sol.fun) < ftol))
-        st = self.solve_domain(l1, l2, **{control: value})
+        l1, l2 = np.asarray(guess, float)
+        count = [0]
+
+        def fun(y):
+            r = self._residual(y, control, value)
+            count[0] += 1
+            if np.all(np.abs(r) < fatol):
+                raise _Balanced(np.array(y, float), r)
+            return r
+
+        # unknowns (a, c): a step in the eccentricity alone reuses the cached shape
+        try:
+            sol = root(fun, np.array([0.5 * (l1 + l2), 0.5 * (l2 - l1)]), method="hybr",
+                       options={"xtol": tol})
+            x, f, message = sol.x, sol.fun, sol.message
+        except _Balanced as done:
+            x, f, message = done.x, done.fun, f"both edge residuals below {fatol:g}"
+        a, c = x
+        ok = bool(np.all(np.abs(f) < ftol))
+        st = self.state_of(self.pair_at(a, c), **{control: value})
         if self.dgamma and self.a0:
             self.release_rates(st)
-        message = sol.message
         over = self.interpenetration(st) if ok else 0.0
         if over > 1e-6:  # both edges balance, but the surface crosses the profile elsewhere
             ok = False
             message = f"inadmissible: interpenetrates by {over:.1e} Λ outside the contact"
-        st.info = {"converged": ok, "message": message, "nfev": sol.nfev,
-                   "residual": float(np.max(np.abs(sol.fun))), "residuals": tuple(sol.fun),
+        st.info = {"converged": ok, "message": message, "nfev": count[0],
+                   "residual": float(np.max(np.abs(f))), "residuals": tuple(f),
                    "control": (control, value), "interpenetration": over}
         return st
 
@@ -664,9 +759,16 @@ class Sinusoid1D:
         return out
 
     def robust_equilibrium(self, *, delta=None, p_mean=None, guess=None):
-        """:meth:`equilibrium` from ``guess``, then from each of :meth:`guesses`."""
+        """:meth:`equilibrium` from ``guess``, then from each of :meth:`guesses`.
+
+        With adhesion the load (or Δ) may have several equilibria: a converged state on the
+        falling branch (:func:`branch_slope` ≤ 0, beyond the snap-in maximum: unstable) is
+        kept only if no guess reaches the rising branch — measured: the ζ sweep at p̃∞ = 0.15
+        continued from ζ = 0.3 (ã = 1.37) reached ã = 2.19 at ζ = 1, where dp̃/dã < 0, while
+        the elastic guess gives the rising ã = 0.90.  ``info['branch_slope']`` is reported.
+        """
         control, value = ("delta", delta) if delta is not None else ("p_mean", p_mean)
-        st = None
+        st = falling = None
         tried = []
         for g in ([guess] if guess is not None else []) + self.guesses(control, value):
             g = np.asarray(g, dtype=float)
@@ -674,9 +776,14 @@ class Sinusoid1D:
                 continue  # the same start again (e.g. |E(kv)| ≈ E0 at small ζ) would fail again
             tried.append(g)
             st = self.equilibrium(guess=g, **{control: value})
-            if st.info["converged"]:
-                break
-        return st
+            if not st.info["converged"]:
+                continue
+            st.info["branch_slope"] = (branch_slope(self, st, control) if self.dgamma > 0
+                                       else np.inf)  # without adhesion p(a) only rises
+            if not st.info["branch_slope"] <= 0:
+                return st
+            falling = falling or st
+        return falling or st
 
     def elastic_guess(self, control, value, E=None):
         """Symmetric Johnson (1995) contact with modulus E (default E0) at the same load."""
@@ -805,7 +912,8 @@ def _status(pr: Sinusoid1D, st: State) -> str:
         ext = [st.l1, st.l2]
         ext[i] = 0.95 * pr.lam - ext[1 - i]
         control, value = st.info["control"]
-        if pr._residual(tuple(ext), control, value)[i] < 0:
+        if pr._residual((0.5 * (ext[0] + ext[1]), 0.5 * (ext[1] - ext[0])), control,
+                        value)[i] < 0:
             return "full_contact"
     if span < 1e-3 * pr.lam or (max(res) > 1e-3 and span < 0.1 * pr.lam):
         return "detached"
@@ -845,6 +953,11 @@ def _summary(pr: Sinusoid1D, st: State) -> dict:
         "mu_bar": pr.friction(st) / (k * pr.amp),
         "K1": st.K[0], "K2": st.K[1],
     }
+    slope = st.info.get("branch_slope", np.nan)
+    if not np.isfinite(slope):
+        slope = np.nan  # not computed (branch_point states, or no adhesion: p(a) only rises)
+    control = st.info.get("control", ("p_mean", None))[0]
+    out["branch_slope"] = slope / (k * (pstar if control == "p_mean" else pr.amp))
     if pr.dgamma > 0 and pr.a0 > 0 and st.work[0] is not None:
         G1, G2 = (ew.dU / pr.a0 for ew in st.work)
     elif pr.dgamma > 0:  # a0 = 0: strict limit, δL_P → 0 and G_i = K_i²/(2E_tip*)
@@ -871,6 +984,8 @@ SCALARS = {
     "a_tilde_adhesiveless": "adhesiveless k a at the same load",
     "e_tilde_adhesiveless": "adhesiveless k e at the same load",
     "mu_bar_adhesiveless": "adhesiveless μ/Λ̃ at the same load",
+    "branch_slope": "dp̃/dã (load control) or dΔ̃/dã (displacement control) along the "
+                    "equilibrium branch: > 0 on the rising (stable) branch",
 }
 
 
@@ -972,9 +1087,10 @@ def _full_contact_dataset(zeta, beta, Gamma, a0_tilde, p_tilde, ratio):
     p = p_tilde + np.real(ratio * np.exp(1j * x))
     mu = -np.imag(ratio) / (2 * p_tilde)
     vals = dict(a_tilde=np.pi, e_tilde=0.0, p_tilde=p_tilde, delta_tilde=1.0, mu_bar=mu,
-                mu_bar_adhesive=0.0 if Gamma > 0 else 0.0, G1_over_dgamma=np.nan,
-                G2_over_dgamma=np.nan, a_tilde_adhesiveless=np.pi if p_tilde >= abs(ratio)
-                else np.nan, e_tilde_adhesiveless=0.0, mu_bar_adhesiveless=mu)
+                mu_bar_adhesive=0.0, G1_over_dgamma=np.nan, G2_over_dgamma=np.nan,
+                branch_slope=np.nan,
+                a_tilde_adhesiveless=np.pi if p_tilde >= abs(ratio) else np.nan,
+                e_tilde_adhesiveless=0.0, mu_bar_adhesiveless=mu)
     data = {k_: ((), float(v), {"long_name": SCALARS.get(k_, k_), "units": "1"})
             for k_, v in vals.items()}
     data["status"] = ((), "full_contact", {"long_name": "partial | full_contact | detached | "
@@ -1030,9 +1146,42 @@ def branch_point(pr: Sinusoid1D, a: float, guess=(0.0, None)):
 
     The state is linear in Δ for a fixed domain, so for each trial e the trailing-edge balance
     gives Δ in closed form (:meth:`Sinusoid1D.edge_balance_delta`) and only the leading-edge
-    residual is left: a scalar secant search in e, three domain solves per trial.  A 2D Newton
-    search in (e, Δ) is the fallback.
+    residual is left: a scalar secant search in e, which at fixed a costs no domain build
+    (:meth:`Sinusoid1D.shape`).  A 2D Newton search in (e, Δ) is the fallback.
     """
+    e, d, res, message = _branch_edges(pr, a, guess)
+    st = pr.state_of(pr.pair_at(a, e), delta=d)
+    if pr.dgamma and pr.a0:
+        pr.release_rates(st)
+    over = pr.interpenetration(st)
+    if over > 1e-6:  # both edges balance, but the surface crosses the profile elsewhere
+        message = f"inadmissible: interpenetrates by {over:.1e} Λ outside the contact"
+    st.info = {"converged": bool(res < 1e-8 and over <= 1e-6), "message": message,
+               "residual": float(res)}
+    return st
+
+
+def branch_slope(pr: Sinusoid1D, st: State, control: str, step: float = 1e-4) -> float:
+    """d p∞/d a (load control) or d Δ/d a (displacement control) along the equilibrium
+    branch at the state ``st``, one-sided over a step of ``step``·λ in the half-width.
+
+    The rising branch (slope > 0) is the one reached by loading from first contact: in the
+    elastic limits it is the stable branch of Johnson (1995) under that control (JKR's
+    criterion), and beyond the snap-in maximum the load falls again toward full contact on
+    the unstable branch.  nan if the neighbouring branch point is not found."""
+    a = st.domain.a + step * pr.lam
+    e, d, res, _ = _branch_edges(pr, a, (st.domain.c, st.delta))
+    if not res < 1e-8:
+        return np.nan
+    if control == "delta":
+        return float((d - st.delta) / (step * pr.lam))
+    _, cw, c1 = pr.pair_at(a, e)
+    p = a * np.pi * (cw[0] + d * c1[0]) / pr.lam
+    return float((p - st.p_mean) / (step * pr.lam))
+
+
+def _branch_edges(pr: Sinusoid1D, a: float, guess):
+    """(e, Δ, residual, message) of the equilibrium at half-width a (:func:`branch_point`)."""
     from scipy.optimize import root_scalar
 
     e0, d0 = guess
@@ -1046,7 +1195,7 @@ def branch_point(pr: Sinusoid1D, a: float, guess=(0.0, None)):
     def F(e):
         if not ok_span(e):
             return np.nan
-        pair = pr.domain_pair(a - e, a + e)
+        pair = pr.pair_at(a, e)
         d = pr.edge_balance_delta(pr.edge_law(pair, 1))
         if not np.isfinite(d):
             return np.nan
@@ -1074,19 +1223,11 @@ def branch_point(pr: Sinusoid1D, a: float, guess=(0.0, None)):
             e, d = y
             if not ok_span(e):
                 return np.array([1e3, 1e3])
-            return pr._residual((a - e, a + e), "delta", d)
+            return pr._residual((a, e), "delta", d)
 
         sol2 = root(F2, np.array([e0, d0], float), method="hybr", options={"xtol": 1e-12})
         (e, d), res, message = sol2.x, float(np.max(np.abs(sol2.fun))), sol2.message
-    st = pr.solve_domain(a - e, a + e, delta=d)
-    if pr.dgamma and pr.a0:
-        pr.release_rates(st)
-    over = pr.interpenetration(st)
-    if over > 1e-6:  # both edges balance, but the surface crosses the profile elsewhere
-        message = f"inadmissible: interpenetrates by {over:.1e} Λ outside the contact"
-    st.info = {"converged": bool(res < 1e-8 and over <= 1e-6), "message": message,
-               "residual": float(res)}
-    return st
+    return e, d, res, message
 
 
 def special_points(zeta: float, beta: float, Gamma: float, *, a0_tilde: float,

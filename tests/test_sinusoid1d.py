@@ -202,7 +202,8 @@ def test_equilibrium_rejects_a_state_that_interpenetrates(monkeypatch):
     pr = s1.dimensionless_problem(0.0, 10.0, 0.008, 0.01)
     good = pr.equilibrium(p_mean=0.15 * pr.p_star())
     assert good.info["converged"] and good.info["interpenetration"] == 0.0
-    flank = SimpleNamespace(x=np.array([-0.4, 1.6]), fun=np.zeros(2), message="forced",
+    # the root finder's unknowns are the half-width and centre (a, c) = (0.6, 1.0)
+    flank = SimpleNamespace(x=np.array([0.6, 1.0]), fun=np.zeros(2), message="forced",
                             nfev=1)
     monkeypatch.setattr(s1, "root", lambda *a, **k: flank)
     bad = pr.equilibrium(delta=good.delta)
@@ -232,3 +233,25 @@ def test_bad_inputs():
         s1.solve(0.1, BETA, GAMMA, a0_tilde=0.01)
     with pytest.raises(ValueError, match="zeta"):
         s1.solve(np.nan, BETA, GAMMA, p_tilde=0.1, a0_tilde=0.01)
+
+
+def test_robust_equilibrium_prefers_the_rising_branch():
+    """ζ = 1, p̃∞ = 0.15 (β = 10, Γ = 0.008, ã0 = 0.01) has two partial equilibria: ã = 0.898
+    on the rising branch and ã = 2.194 beyond the snap-in maximum, where the load falls
+    (unstable under load control; a ζ sweep continued from ζ = 0.3 reached it).  The slope
+    sign and size are checked against a central difference of two independent branch points
+    (± 2e-3 in ã: the load changes by ~5e-3, far above the 1e-10 balance; the one-sided step
+    of 6e-4 differs by O(step) curvature, measured 0.3 %, so 1 %), and the robust solver
+    started on the falling state must return the rising one."""
+    pr = s1.dimensionless_problem(1.0, BETA, 0.008, 0.01)
+    p = 0.15 * pr.p_star()
+    fall = pr.equilibrium(p_mean=p, guess=(2.194 + 0.495, 2.194 - 0.495))
+    assert fall.info["converged"] and abs(fall.domain.a - 2.1943) < 1e-3
+    slope = s1.branch_slope(pr, fall, "p_mean")
+    lo, hi = (s1.branch_point(pr, fall.domain.a + s, (fall.domain.c, fall.delta))
+              for s in (-2e-3, 2e-3))
+    central = (hi.p_mean - lo.p_mean) / 4e-3
+    assert slope < 0 and central < 0 and abs(slope / central - 1) < 0.01
+    st = pr.robust_equilibrium(p_mean=p, guess=(fall.l1, fall.l2))
+    assert st.info["converged"] and st.info["branch_slope"] > 0
+    assert abs(st.domain.a - 0.8975705620) < 1e-8  # the cold-start state, same to 1e-8

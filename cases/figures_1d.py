@@ -46,7 +46,8 @@ def run_curves(jobs):
 
 
 def stamp(fig, text):
-    fig.text(0.99, 0.01, text, ha="right", va="bottom", fontsize=8, color="0.35")
+    """The figure's parameters (a0 among them) as a small title, clear of the axis labels."""
+    fig.suptitle(text, fontsize=9, color="0.35")
 
 
 def fig3(quick):

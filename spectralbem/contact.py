@@ -230,8 +230,8 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     np.multiply(P, kn, out=spec)
     u = inverse()
     idx = np.flatnonzero(p > 0)
-    inside = np.zeros(n, dtype=bool)
-    inside[idx] = True
+    w_out = w.copy()  # w outside the contact set, −∞ on it: the overlap scan's target
+    w_out[idx] = -np.inf
     ov_buf = np.empty(n, dtype=np.intp)
     wc = w.take(idx)  # w and p on the contact set, kept in step with idx
     pc_cur = p.take(idx)
@@ -251,8 +251,9 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             break
         gbar, e_sum, p_sum, G = kernels.contact_gap(u, idx, wc, pc_cur, load, gc)
         # convergence test on the current state: complementarity and no overlap
-        gmin, n_ov = kernels.gap_scan(u, w, inside, gbar, ov_buf)
-        overlap_min = gmin - gbar
+        n_ov = kernels.gap_scan(u, w_out, gbar, ov_buf)
+        overlap_min = (float(np.min(u.take(ov_buf[:n_ov]) - w.take(ov_buf[:n_ov]))) - gbar
+                       if n_ov else 0.0)  # the deepest overlap (0: none)
         err = e_sum / (p_sum * hrange)
         if not np.isfinite(err):
             message = f"non-finite error at iteration {it}"
@@ -302,8 +303,8 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         pc *= scale
         if changed:  # drop the clipped cells (pc < 0), merge the joining ones in
             pov *= scale
-            inside[out] = False
-            inside[ov] = True
+            w_out[out] = w.take(out)
+            w_out[ov] = -np.inf
             idx, tc, pc, wc = kernels.merge_set(idx, tc, pc, ov, pov, w)
             gc = np.empty(idx.size)
         if exact:  # p̂ from p (no drift of the incremental update)

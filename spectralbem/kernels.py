@@ -12,8 +12,9 @@ the summation order, slower).  ``backend()`` tells which is in use.
   multiplicity): ⟨C t, t⟩ by Parseval.
 * :func:`spectrum_step` — ``P ← P + a·D`` and ``out = (s·k)·P`` in one pass (the pressure
   spectrum update and the kernel product that feeds the inverse transform).
-* :func:`gap_scan` — outside the contact set: the minimum of ``u − w`` and the cells where
-  ``u − w < level`` (the overlap test of PK).
+* :func:`gap_scan` — the cells where ``u − w_out < level``, with ``w_out = −∞`` on the
+  contact set (the overlap test of PK; no minimum and no mask test per cell: one compare
+  per cell, a branch taken only at the rare overlaps).
 * :func:`contact_gap` — on the contact set: the gap, its mean (load control) and the sums
   of the PK error and step.
 * :func:`direction` — the conjugate direction, written into the FFT input as well.
@@ -60,12 +61,10 @@ def spectrum_step_numpy(P, D, a, k, s, out) -> None:
     np.multiply(P, k * s, out=out)
 
 
-def gap_scan_numpy(u, w, inside, level, out_index):
-    d = u - w
-    d[inside] = np.inf
-    ov = np.flatnonzero(d < level)
+def gap_scan_numpy(u, w_out, level, out_index):
+    ov = np.flatnonzero(u - w_out < level)
     out_index[: ov.size] = ov
-    return float(d.min()), int(ov.size)
+    return int(ov.size)
 
 
 def contact_gap_numpy(u, idx, wc, pc, load, gc):
@@ -119,8 +118,11 @@ def periodic_cubic_numpy(coefs, x, y, lam, inv_dx, guard, out, near_index):
 
 if numba is not None:
     _jit = numba.njit(cache=True, nogil=True)
+    # a sum may be reassociated (vectorised): half the time of the in-order sum, measured
+    # at 512²; the result differs from numpy's pairwise sum by rounding only
+    _jit_sum = numba.njit(cache=True, nogil=True, fastmath={"reassoc", "contract"})
 
-    @_jit
+    @_jit_sum
     def _parseval_sum(T, k, m):  # pragma: no cover - compiled
         s = 0.0
         for i in range(T.shape[0]):
@@ -137,19 +139,13 @@ if numba is not None:
             out[i] = (s * k[i]) * v
 
     @_jit
-    def _gap_scan(u, w, inside, level, out_index):  # pragma: no cover - compiled
-        m = np.inf
+    def _gap_scan(u, w_out, level, out_index):  # pragma: no cover - compiled
         n = 0
         for i in range(u.size):
-            if inside[i]:
-                continue
-            d = u[i] - w[i]
-            if d < m:
-                m = d
-            if d < level:
+            if u[i] - w_out[i] < level:
                 out_index[n] = i
                 n += 1
-        return m, n
+        return n
 
     @_jit
     def _contact_gap(u, idx, wc, pc, load, gc):  # pragma: no cover - compiled
@@ -301,11 +297,11 @@ if numba is not None:
         _spectrum_step(P.reshape(-1), D.reshape(-1), float(a), k.reshape(-1), float(s),
                        out.reshape(-1))
 
-    def gap_scan(u, w, inside, level, out_index):
-        """(min of u − w where not ``inside``, number n of such cells with u − w < level);
-        their flat indices are written to ``out_index[:n]`` in increasing order."""
-        m, n = _gap_scan(u, w, inside, float(level), out_index)
-        return float(m), int(n)
+    def gap_scan(u, w_out, level, out_index):
+        """The number n of cells with u − w_out < level (``w_out`` = w outside the contact
+        set, −∞ on it); their flat indices are written to ``out_index[:n]`` in increasing
+        order."""
+        return int(_gap_scan(u, w_out, float(level), out_index))
 else:  # pragma: no cover - the numpy build
     parseval_sum = parseval_sum_numpy
     spectrum_step = spectrum_step_numpy

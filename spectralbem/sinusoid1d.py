@@ -1110,7 +1110,9 @@ def sweep(zeta, beta: float, Gamma: float, *, p_tilde=None, delta_tilde=None, a0
     """ζ sweep with continuation from the previous point; one Dataset with dimension zeta.
 
     Points are solved in increasing ζ, each started from the previous converged edges;
-    a point that fails is retried from the elastic guess.
+    a point that fails is retried from the elastic guess, and a start that lands on the
+    falling (unstable) branch gives way to one that reaches the rising branch
+    (:meth:`Sinusoid1D.robust_equilibrium`; ``branch_slope`` is reported).
     """
     import xarray as xr
 

@@ -305,7 +305,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             pov *= scale
             w_out[out] = w.take(out)
             w_out[ov] = -np.inf
-            idx, tc, pc, wc = kernels.merge_set(idx, tc, pc, ov, pov, w)
+            idx, tc, pc, wc = kernels.merge_set(idx, tc, pc, wc, ov, pov, w)
             gc = np.empty(idx.size)
         if exact:  # p̂ from p (no drift of the incremental update)
             p[:] = 0.0

@@ -88,16 +88,17 @@ def pk_step_numpy(pc_cur, tc, tau):
     return pc, int(np.count_nonzero(pc < 0)), float(np.maximum(pc, 0.0).sum())
 
 
-def merge_set_numpy(idx, tc, pc, ov, pov, w):
+def merge_set_numpy(idx, tc, pc, wc, ov, pov, w):
     keep = pc >= 0
-    idx, tc, pc = idx[keep], tc[keep], pc[keep]
+    idx, tc, pc, wc = idx[keep], tc[keep], pc[keep], wc[keep]
     if ov.size:
         idx = np.concatenate([idx, ov])
         order = np.argsort(idx, kind="stable")
         idx = idx[order]
         tc = np.concatenate([tc, np.zeros(ov.size)])[order]
         pc = np.concatenate([pc, pov])[order]
-    return idx, tc, pc, w.take(idx)
+        wc = np.concatenate([wc, w.take(ov)])[order]
+    return idx, tc, pc, wc
 
 
 def periodic_cubic_numpy(coefs, x, y, lam, inv_dx, guard, out, near_index):
@@ -199,7 +200,7 @@ if numba is not None:
         return pc, nneg, total
 
     @_jit
-    def _merge_set(idx, tc, pc, ov, pov, w):  # pragma: no cover - compiled
+    def _merge_set(idx, tc, pc, wc, ov, pov, w):  # pragma: no cover - compiled
         m = ov.size
         for k in range(idx.size):
             if pc[k] >= 0.0:
@@ -219,14 +220,15 @@ if numba is not None:
                 c = ov[j]
                 tc2[o] = 0.0
                 pc2[o] = pov[j]
+                wc2[o] = w[c]  # only the joining cells read the full grid
                 j += 1
             else:
                 c = idx[i]
                 tc2[o] = tc[i]
                 pc2[o] = pc[i]
+                wc2[o] = wc[i]
                 i += 1
             idx2[o] = c
-            wc2[o] = w[c]
             o += 1
         return idx2, tc2, pc2, wc2
 
@@ -236,11 +238,12 @@ if numba is not None:
         pc, nneg, total = _pk_step(pc_cur, tc, float(tau))
         return pc, int(nneg), float(total)
 
-    def merge_set(idx, tc, pc, ov, pov, w):
+    def merge_set(idx, tc, pc, wc, ov, pov, w):
         """The contact set after a step: the cells of ``idx`` with ``pc < 0`` dropped, the
         cells ``ov`` (sorted, disjoint from ``idx``) merged in with t = 0 and p = ``pov``;
-        returns (idx, tc, pc, w[idx]), ``idx`` sorted."""
-        return _merge_set(idx, tc, pc, ov, pov, w)
+        returns (idx, tc, pc, w[idx]), ``idx`` sorted (``wc`` = w[idx] on entry: only the
+        joining cells are read from the full grid)."""
+        return _merge_set(idx, tc, pc, wc, ov, pov, w)
 
     @_jit
     def _periodic_cubic(coefs, x, y, lam, inv_dx, guard, out, near_index):  # pragma: no cover

@@ -126,7 +126,7 @@ def test_merge_set(n, k, seed):
     keep = pc >= 0
     expect_idx = np.sort(np.concatenate([idx[keep], ov]))
     for merge in (kernels.merge_set, kernels.merge_set_numpy):
-        i2, t2, p2, w2 = merge(idx, tc, pc, ov, pov, w)
+        i2, t2, p2, w2 = merge(idx, tc, pc, w[idx], ov, pov, w)
         # exact: a permutation of copies
         np.testing.assert_array_equal(i2, expect_idx)
         np.testing.assert_array_equal(w2, w[expect_idx])

@@ -151,9 +151,10 @@ ZSMALL = (0.0, 1e-2, 3e-2, 5e-2, 0.1, 0.3, 1.0, np.inf)
 
 def test_8_location_holds_at_small_a0():
     """Claim 8's location, 1e-2 < ζ < 1e-1, depends on the advance width (docs/oned.md: the
-    maxima sit at ζ ≈ 0.1-0.3 for ã0 = 1e-2 and move down as a0 shrinks; in the strict limit
-    a0 = 0 the toughness is largest at ζ ≤ 1e-2).  At ã0 = 1e-4 it holds as the seed states:
-    T̃ and |p̃_out| are largest at ζ = 0.05 of this grid, above both neighbours 0.03 and 0.1,
+    maxima sit at ζ ≈ 0.3 (T̃) and 1 (|p̃_out|) for ã0 = 1e-2 and move down as a0 shrinks; in
+    the strict limit a0 = 0 both are largest at the lowest ζ > 0 of the grid, 1e-3).  At
+    ã0 = 1e-4 it holds as the seed states: T̃ and |p̃_out| are largest at ζ = 0.05 of this
+    grid, above both neighbours 0.03 and 0.1,
     so each maximum lies in (0.03, 0.1).  Margins, measured: T̃ 6e-4 and 1.9e-3 above the
     neighbours against a sampling error of 2e-5 (n = 24, cheb = 12) and a mesh error of 1e-5
     (2M); |p̃_out| 2.8e-4 and 2.2e-4 against 4e-7 and 3e-7."""

@@ -1177,8 +1177,7 @@ def branch_slope(pr: Sinusoid1D, st: State, control: str, step: float = 1e-4) ->
         return np.nan
     if control == "delta":
         return float((d - st.delta) / (step * pr.lam))
-    _, cw, c1 = pr.pair_at(a, e)
-    p = a * np.pi * (cw[0] + d * c1[0]) / pr.lam
+    p = pr.state_of(pr.pair_at(a, e), delta=d).p_mean
     return float((p - st.p_mean) / (step * pr.lam))
 
 

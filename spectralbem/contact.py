@@ -108,8 +108,22 @@ def _check_controls(heights, op, mean_pressure, penetration):
         if not np.isfinite(mp) or mp <= 0:
             raise ContactError(
                 f"mean_pressure = {mp!r} must be > 0 for adhesiveless contact (allowed (0, inf))")
-    if penetration is not None and not np.isfinite(float(penetration)):
-        raise ContactError(f"penetration = {penetration!r} must be finite")
+    if penetration is not None:
+        d = float(penetration)
+        if not np.isfinite(d):
+            raise ContactError(f"penetration = {penetration!r} must be finite")
+        if op.kernel[0, 0].real == 0:
+            # mean u = 0 (the q = 0 mode dropped — half-space, A.5 — or an incompressible
+            # glued layer): g = u - w ≥ 0 needs mean w = mean(h) - max(h) + Δ < 0
+            limit = float(h.max() - h.mean())
+            if not d < limit:
+                why = ("an incompressible layer glued to a rigid plate"
+                       if op.layer.q0_compliance(1.0, op.material.nu) == 0 else
+                       f"{type(op.layer).__name__}: the q = 0 mode is dropped")
+                raise ContactError(
+                    f"penetration = {d!r} admits no equilibrium: the mean displacement is 0 "
+                    f"({why}), so Δ must be < max(h) - mean(h) = {limit!r} "
+                    f"(allowed (-inf, {limit!r}))")
     return h
 
 
@@ -164,6 +178,14 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     are the fused loops of :mod:`spectralbem.kernels`.  Under load control the search
     direction is kept mean-free on the contact (the mean-gap term of PK).
 
+    One departure from PK: they restart the conjugate directions (β = 0) whenever cells
+    join the contact; here β = G/G_old is kept across every change of the contact set and
+    the direction is restarted only when it would not be a descent direction
+    (⟨g, t⟩ ≤ 0, so the step length τ is always positive).  Same solutions; measured over 40
+    rough, wavy and layered cases at 256²-512² (2026-11-23): 39 % fewer iterations in all,
+    up to 3.7× fewer at contact fractions ≳ 0.5, at most 23 % more at fractions ≲ 1 %
+    (docs/performance.md).
+
     The error is the complementarity ``Σ p|g| / (Σ p · (max h - min h))`` on the contact;
     convergence also requires no overlap (g < -tol·range where p = 0).
 
@@ -171,7 +193,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     """
     if not op.symmetric:
         raise ContactError("polonsky_keer needs a symmetric operator (elastic or v = 0)")
-    h = np.ascontiguousarray(heights, dtype=float)
+    h = np.ascontiguousarray(_check_controls(heights, op, mean_pressure, penetration))
     shape = op.cell.shape
     n = h.size
     hmax = float(h.max())
@@ -237,8 +259,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     pc_cur = p.take(idx)
     tc = np.zeros(idx.size)
     gc = np.empty(idx.size)
-    coef_flag = 0.0
-    G_old = 1.0
+    G_old = 0.0  # the first direction is the gradient (β = 0)
     err = np.inf
     gbar = 0.0
     message = f"not converged in {maxiter} iterations"
@@ -246,8 +267,11 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     it = 0
     for it in range(1, maxiter + 1):
         if idx.size == 0:
-            message = "no contact: the indenter does not reach the surface"
-            converged = True
+            if load or float(penetration) > 0:  # max w = Δ > 0: the bodies overlap
+                message = f"the contact set emptied at iteration {it} while the bodies overlap"
+            else:
+                message = "no contact: the indenter does not reach the surface"
+                converged = True
             break
         gbar, e_sum, p_sum, G = kernels.contact_gap(u, idx, wc, pc_cur, load, gc)
         # convergence test on the current state: complementarity and no overlap
@@ -262,7 +286,10 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             converged, message = True, "converged"
             break
         forwards += 1
-        gc_tc = kernels.direction(gc, tc, coef_flag * G / G_old, load, rin, idx)
+        # Fletcher–Reeves β = G/G_old, kept across changes of the contact set; restarted (β = 0)
+        # only when t would not be a descent direction (see the docstring)
+        gc_tc, _ = kernels.direction(gc, tc, G / G_old if G_old > 0 else 0.0, load, rin,
+                                     idx, G)
         G_old = G
         T = pl.forward_buffer()  # the plan's output buffer
         denom = kernels.parseval_sum(T, kn, mult)  # ⟨C t, t⟩ by Parseval
@@ -273,7 +300,6 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         # pc = pc_cur − τ·tc; its negative cells are clipped; total = Σ max(pc, 0)
         pc, n_clip, total = kernels.pk_step(pc_cur, tc, tau)
         ov = ov_buf[:n_ov].copy() if n_ov else ov_buf[:0]
-        coef_flag = 0.0 if ov.size else 1.0
         exact = it % refresh == 0  # p̂ recomputed from p below: no incremental update
         changed = n_clip > 0 or ov.size > 0
         D = T
@@ -338,12 +364,16 @@ def active_set(op: SpectralOperator, heights, *, mean_pressure=None, penetration
 
     Returns (p, u, delta, mask, iterations, converged, message, outer).
     """
-    h = np.asarray(heights, dtype=float)
+    h = _check_controls(heights, op, mean_pressure, penetration)
     cell = op.cell
     n = cell.Nx * cell.Ny
     hmax = float(h.max())
     hrange = max(float(h.max() - h.min()), np.finfo(float).tiny)
     load = mean_pressure is not None
+    if not load and float(penetration) <= 0:  # max w = Δ ≤ 0: p = 0 satisfies g ≥ 0
+        zero = np.zeros(cell.shape)
+        return (zero, zero.copy(), float(penetration), zero > 0, 0, True,
+                "no contact: the indenter does not reach the surface", 0)
     if mask0 is None:
         # start from the elastic solution of the symmetric part of the kernel
         from .materials import Elastic
@@ -426,6 +456,7 @@ def active_set(op: SpectralOperator, heights, *, mean_pressure=None, penetration
         mask = (mask & ~remove) | add
         if not np.any(mask):
             message = "contact vanished: no cell carries compressive pressure"
+            p = np.zeros(cell.shape)  # never a tensile pressure out of an adhesiveless solve
             break
     else:
         message = f"active set not converged in {max_outer} outer iterations"

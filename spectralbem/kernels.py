@@ -17,7 +17,8 @@ the summation order, slower).  ``backend()`` tells which is in use.
   per cell, a branch taken only at the rare overlaps).
 * :func:`contact_gap` — on the contact set: the gap, its mean (load control) and the sums
   of the PK error and step.
-* :func:`direction` — the conjugate direction, written into the FFT input as well.
+* :func:`direction` — the conjugate direction (restarted when it is not a descent
+  direction), written into the FFT input as well.
 * :func:`pk_step` — the packed pressure step ``pc − τ·tc``, its negative cells and
   ``Σ max(pc, 0)``.
 * :func:`merge_set` — the new contact set: the cells with ``pc < 0`` dropped, the joining
@@ -74,13 +75,15 @@ def contact_gap_numpy(u, idx, wc, pc, load, gc):
     return gbar, float(np.dot(pc, np.abs(gc))), float(pc.sum()), float(np.dot(gc, gc))
 
 
-def direction_numpy(gc, tc, beta, load, rin, idx):
+def direction_numpy(gc, tc, beta, load, rin, idx, G):
+    if beta != 0.0 and not G + beta * float(np.dot(gc, tc)) > 0.0:
+        beta = 0.0  # not a descent direction: restart
     tc *= beta
     tc += gc
     if load:
         tc -= tc.mean()
     rin.put(idx, tc)
-    return float(np.dot(gc, tc))
+    return float(np.dot(gc, tc)), beta == 0.0
 
 
 def pk_step_numpy(pc_cur, tc, tau):
@@ -169,8 +172,14 @@ if numba is not None:
         return gbar, e, ps, G
 
     @_jit
-    def _direction(gc, tc, beta, load, rin, idx):  # pragma: no cover - compiled
+    def _direction(gc, tc, beta, load, rin, idx, G):  # pragma: no cover - compiled
         n = idx.size
+        if beta != 0.0:
+            d_old = 0.0
+            for k in range(n):
+                d_old += gc[k] * tc[k]
+            if not G + beta * d_old > 0.0:
+                beta = 0.0
         s = 0.0
         for k in range(n):
             t = gc[k] + beta * tc[k]
@@ -183,7 +192,7 @@ if numba is not None:
             tc[k] = t
             rin[idx[k]] = t
             d += gc[k] * t
-        return d
+        return d, beta == 0.0
 
     @_jit
     def _pk_step(pc_cur, tc, tau):  # pragma: no cover - compiled
@@ -283,10 +292,14 @@ if numba is not None:
         else 0), written in place; returns (ḡ, Σ pc|gc|, Σ pc, Σ gc²)."""
         return _contact_gap(u, idx, wc, pc, bool(load), gc)
 
-    def direction(gc, tc, beta, load, rin, idx):
+    def direction(gc, tc, beta, load, rin, idx, G):
         """tc ← gc + β·tc (mean-free under load control), in place, also written to
-        ``rin[idx]``; returns ⟨gc, tc⟩."""
-        return float(_direction(gc, tc, float(beta), bool(load), rin, idx))
+        ``rin[idx]``, with β set to 0 (a restart) when the result would not be a descent
+        direction, ⟨gc, tc⟩ = G + β⟨gc, tc_old⟩ ≤ 0 (G = ⟨gc, gc⟩; gc is mean-free under load
+        control, so the mean removal does not change the product); returns (⟨gc, tc⟩,
+        whether β = 0 was used)."""
+        d, restart = _direction(gc, tc, float(beta), bool(load), rin, idx, float(G))
+        return float(d), bool(restart)
 
     def parseval_sum(T: np.ndarray, k: np.ndarray, m: np.ndarray) -> float:
         """Σ m_j k_ij |T_ij|² for a complex half spectrum T, real k of the same shape and the

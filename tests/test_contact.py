@@ -174,3 +174,53 @@ def test_bad_controls():
         solve_contact(op, h)
     with pytest.raises(ContactError, match="shape"):
         solve_contact(op, h[:-1], mean_pressure=1.0)
+
+
+@pytest.mark.parametrize("layer", [None, GluedLayer(0.05 * LAM)])
+@pytest.mark.parametrize("zeta", [0.0, 1.0])
+def test_penetration_control_inverts_load_control(layer, zeta):
+    """Load control gives Δ at p̄; penetration control at that Δ gives p̄ back — the same LCP
+    solved from the other side (elastic: PK; ζ = 1: the active set).  Both solves stop at
+    1e-10 (complementarity, resp. masked residual); the mean pressures agree to ≤ 7e-11
+    relative (measured, 2026-11-23), asserted at 1e-8: 100× the stopping level."""
+    cell = Cell(LAM, LAM, 64, 64)
+    h = sinusoid(cell, AMP) + 0.5 * AMP * np.cos(2 * K * cell.y)[None, :]
+    mat = Elastic(1.0, NU) if zeta == 0 else StandardLinearSolid(1.0, BETA, TAU, NU)
+    op = SpectralOperator(cell, mat, layer, velocity=(zeta / (K * TAU), 0.0))
+    load = solve_contact(op, h, mean_pressure=0.1 * PSTAR)
+    disp = solve_contact(op, h, penetration=load.penetration)
+    assert load.converged and disp.converged
+    assert 0 < load.area_fraction < 1
+    assert disp.mean_pressure == pytest.approx(load.mean_pressure, rel=1e-8)
+    np.testing.assert_array_equal(disp.mask, load.mask)
+
+
+def test_penetration_beyond_the_gauge_limit_is_refused():
+    """Half-space (and A.5): the q = 0 mode is dropped, mean u = 0, so g = u − w ≥ 0 has no
+    solution once Δ ≥ max h − mean h: a clear error before any solve (it used to end as a
+    'converged' empty contact with the bodies overlapping everywhere).  A layer glued to a
+    rigid plate (ν < 0.5) has a finite q = 0 stiffness and accepts any Δ (full contact
+    beyond)."""
+    cell = line_cell(64)
+    h = sinusoid(cell, AMP)
+    limit = float(h.max() - h.mean())
+    # ν = 0.5 (NU): a glued layer is incompressible, its q = 0 compliance is 0 as well
+    for layer in (None, PressureLayer(0.5 * LAM), GluedLayer(0.5 * LAM)):
+        op = SpectralOperator(cell, Elastic(1.0, NU), layer)
+        with pytest.raises(ContactError, match=r"penetration = .* < max\(h\) - mean\(h\)"):
+            solve_contact(op, h, penetration=1.001 * limit)
+        assert solve_contact(op, h, penetration=0.5 * limit).converged
+    glued = solve_contact(SpectralOperator(cell, Elastic(1.0, 0.3), GluedLayer(0.5 * LAM)), h,
+                          penetration=3 * limit)
+    assert glued.converged and glued.area_fraction == 1.0
+
+
+def test_penetration_that_does_not_reach_gives_no_contact():
+    """Δ ≤ 0: the rigid profile stays at or above the undeformed surface — no pressure."""
+    cell = line_cell(64)
+    h = sinusoid(cell, AMP)
+    for zeta in (0.0, 1.0):
+        mat = Elastic(1.0, NU) if zeta == 0 else StandardLinearSolid(1.0, BETA, TAU, NU)
+        res = solve_contact(SpectralOperator(cell, mat, velocity=(zeta / (K * TAU), 0.0)), h,
+                            penetration=-0.1 * AMP)
+        assert res.converged and res.area_fraction == 0 and not np.any(res.pressure)

@@ -81,7 +81,10 @@ def test_contact_gap_and_direction(n, seed, load, beta):
     g = u[idx] - w[idx]
     gbar = g.mean() if load else 0.0
     g = g - gbar
-    t = g + beta * tc0
+    G = g @ g
+    # restart (β = 0) when gc + β·tc0 would not be a descent direction
+    restart = beta != 0 and not G + beta * (g @ tc0) > 0
+    t = g + (0.0 if restart else beta) * tc0
     if load:
         t = t - t.mean()
     # sums of ≤ 300 O(1) terms in another order: agreement to 1e-12 absolute
@@ -93,9 +96,14 @@ def test_contact_gap_and_direction(n, seed, load, beta):
                                    atol=1e-12)
         np.testing.assert_allclose(gc, g, atol=1e-12)
         tc, rin = tc0.copy(), np.zeros(m)
-        d = dirn(gc, tc, beta, load, rin, idx)
+        d, restarted = dirn(gc, tc, beta, load, rin, idx, G)
+        assert restarted == (restart or beta == 0)
         np.testing.assert_allclose(tc, t, atol=1e-12)
         assert d == pytest.approx(g @ t, rel=1e-12, abs=1e-12)
+        # a descent direction whatever tc0 was (G > 0 almost surely for n > 1), unless the
+        # kept direction's product is positive by less than its rounding
+        if n > 1 and (restart or beta == 0 or G + beta * (g @ tc0) > 1e-9 * G):
+            assert d > 0
         np.testing.assert_array_equal(rin[idx], tc)
         assert not np.any(np.delete(rin, idx))
 

@@ -19,7 +19,7 @@ the summation order, slower).  ``backend()`` tells which is in use.
   of the PK error and step.
 * :func:`direction` — the conjugate direction (restarted when it is not a descent
   direction), written into the FFT input as well.
-* :func:`pk_step` — the packed pressure step ``pc − τ·tc``, its negative cells and
+* :func:`pk_step` — the packed pressure step ``pc − τ·tc``, its negative cells (listed) and
   ``Σ max(pc, 0)``.
 * :func:`merge_set` — the new contact set: the cells with ``pc < 0`` dropped, the joining
   cells merged in (both index lists sorted), with their t, p and w.
@@ -86,9 +86,11 @@ def direction_numpy(gc, tc, beta, load, rin, idx, G):
     return float(np.dot(gc, tc)), beta == 0.0
 
 
-def pk_step_numpy(pc_cur, tc, tau):
+def pk_step_numpy(pc_cur, tc, tau, clip_pos):
     pc = pc_cur - tau * tc
-    return pc, int(np.count_nonzero(pc < 0)), float(np.maximum(pc, 0.0).sum())
+    neg = np.flatnonzero(pc < 0)
+    clip_pos[: neg.size] = neg
+    return pc, int(neg.size), float(np.maximum(pc, 0.0).sum())
 
 
 def merge_set_numpy(idx, tc, pc, wc, ov, pov, w):
@@ -195,7 +197,7 @@ if numba is not None:
         return d, beta == 0.0
 
     @_jit
-    def _pk_step(pc_cur, tc, tau):  # pragma: no cover - compiled
+    def _pk_step(pc_cur, tc, tau, clip_pos):  # pragma: no cover - compiled
         pc = np.empty_like(pc_cur)
         nneg = 0
         total = 0.0
@@ -203,6 +205,7 @@ if numba is not None:
             v = pc_cur[k] - tau * tc[k]
             pc[k] = v
             if v < 0.0:
+                clip_pos[nneg] = k
                 nneg += 1
             else:
                 total += v
@@ -241,10 +244,10 @@ if numba is not None:
             o += 1
         return idx2, tc2, pc2, wc2
 
-    def pk_step(pc_cur, tc, tau):
-        """(pc = pc_cur − τ·tc as a new array, the number of its negative cells,
-        Σ max(pc, 0))."""
-        pc, nneg, total = _pk_step(pc_cur, tc, float(tau))
+    def pk_step(pc_cur, tc, tau, clip_pos):
+        """(pc = pc_cur − τ·tc as a new array, the number n of its negative cells,
+        Σ max(pc, 0)); their positions in pc, increasing, go to ``clip_pos[:n]``."""
+        pc, nneg, total = _pk_step(pc_cur, tc, float(tau), clip_pos)
         return pc, int(nneg), float(total)
 
     def merge_set(idx, tc, pc, wc, ov, pov, w):

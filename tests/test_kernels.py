@@ -115,9 +115,11 @@ def test_pk_step(n, seed, tau):
     pc_cur, tc = rng.random(n), rng.normal(size=n)
     expect = pc_cur - tau * tc
     for step in (kernels.pk_step, kernels.pk_step_numpy):
-        pc, nneg, total = step(pc_cur, tc, tau)
+        clip = np.full(n, -1, dtype=np.intp)
+        pc, nneg, total = step(pc_cur, tc, tau, clip)
         np.testing.assert_allclose(pc, expect, rtol=1e-15, atol=1e-15)  # one fma or two ops
         assert nneg == np.count_nonzero(pc < 0)
+        np.testing.assert_array_equal(clip[:nneg], np.flatnonzero(pc < 0))
         # ≤ 300 O(1) positive terms in another order
         assert total == pytest.approx(np.maximum(pc, 0).sum(), rel=1e-13, abs=1e-300)
 

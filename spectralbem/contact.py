@@ -112,19 +112,38 @@ def _check_controls(heights, op, mean_pressure, penetration):
         d = float(penetration)
         if not np.isfinite(d):
             raise ContactError(f"penetration = {penetration!r} must be finite")
-        if op.kernel[0, 0].real == 0:
-            # mean u = 0 (the q = 0 mode dropped — half-space, A.5 — or an incompressible
-            # glued layer): g = u - w ≥ 0 needs mean w = mean(h) - max(h) + Δ < 0
-            limit = float(h.max() - h.mean())
-            if not d < limit:
-                why = ("an incompressible layer glued to a rigid plate"
-                       if op.layer.q0_compliance(1.0, op.material.nu) == 0 else
-                       f"{type(op.layer).__name__}: the q = 0 mode is dropped")
-                raise ContactError(
-                    f"penetration = {d!r} admits no equilibrium: the mean displacement is 0 "
-                    f"({why}), so Δ must be < max(h) - mean(h) = {limit!r} "
-                    f"(allowed (-inf, {limit!r}))")
+        check_penetration(op.layer, op.material.nu, h, [d])
     return h
+
+
+def penetration_limit(layer, nu: float, heights) -> float | None:
+    """The supremum of the admissible penetrations Δ, or None when every Δ is admissible.
+
+    When the slab's mean displacement is 0 — the q = 0 mode dropped (half-space, layer under
+    uniform pressure, A.5) or an incompressible layer glued to a rigid plate — g = u - w ≥ 0
+    needs mean(w) = mean(h) - max(h) + Δ < 0, i.e. Δ < max(h) - mean(h) (at equality the
+    contact is full and the mean pressure undetermined).  A compressible glued layer has a
+    finite q = 0 compliance (A.4) and accepts any Δ."""
+    if layer.q0_compliance(1.0, nu):  # None (mode dropped) and 0 (incompressible) bound Δ
+        return None
+    h = np.asarray(heights, dtype=float)
+    return float(h.max() - h.mean())
+
+
+def check_penetration(layer, nu: float, heights, values) -> None:
+    """Raise :class:`ContactError` naming the first penetration of ``values`` that is not
+    below :func:`penetration_limit` (and how many more are not), before any solve."""
+    limit = penetration_limit(layer, nu, heights)
+    bad = [] if limit is None else [v for v in values if not float(v) < limit]
+    if bad:
+        why = ("an incompressible layer glued to a rigid plate"
+               if layer.q0_compliance(1.0, nu) == 0 else
+               f"{type(layer).__name__}: the q = 0 mode is dropped")
+        more = f" (and {len(bad) - 1} more values)" if len(bad) > 1 else ""
+        raise ContactError(
+            f"penetration = {float(bad[0])!r}{more} admits no equilibrium: the mean "
+            f"displacement is 0 ({why}), so Δ must be < max(h) - mean(h) = {limit!r} "
+            f"(allowed (-inf, {limit!r}))")
 
 
 def _full_contact(op, h, mean_pressure=None, penetration=None):
@@ -164,7 +183,8 @@ def sparse_max(n_cells: int) -> int:
 
 
 def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetration=None,
-                  tol: float = 1e-10, maxiter: int = 10000, p0=None, refresh: int = 50):
+                  tol: float = 1e-10, maxiter: int = 10000, p0=None, refresh: int = 50,
+                  restart: str = "descent"):
     """Constrained CG of Polonsky & Keer (1999) for a symmetric operator.
 
     The pressure is carried in Fourier space as well (p̂ = S·P, the load-control rescaling
@@ -179,13 +199,12 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     are the fused loops of :mod:`spectralbem.kernels`.  Under load control the search
     direction is kept mean-free on the contact (the mean-gap term of PK).
 
-    One departure from PK: they restart the conjugate directions (β = 0) whenever cells
-    join the contact; here β = G/G_old is kept across every change of the contact set and
-    the direction is restarted only when it would not be a descent direction
-    (⟨g, t⟩ ≤ 0, so the step length τ is always positive).  Same solutions; measured over 40
-    rough, wavy and layered cases at 256²-512² (2026-11-23): 39 % fewer iterations in all,
-    up to 3.7× fewer at contact fractions ≳ 0.5, at most 23 % more at fractions ≲ 1 %
-    (docs/performance.md).
+    One departure from PK (``restart="descent"``, the default): they restart the conjugate
+    directions (β = 0) whenever cells join the contact (``restart="join"``); here β = G/G_old
+    is kept across every change of the contact set and the direction is restarted only when
+    it would not be a descent direction (⟨g, t⟩ ≤ 0, so the step length τ is always
+    positive).  Same solutions, fewer iterations: `python bench/pk_restart.py`, table in
+    docs/performance.md.
 
     The error is the complementarity ``Σ p|g| / (Σ p · (max h - min h))`` on the contact;
     convergence also requires no overlap (g < -tol·range where p = 0).
@@ -194,6 +213,9 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     """
     if not op.symmetric:
         raise ContactError("polonsky_keer needs a symmetric operator (elastic or v = 0)")
+    if restart not in ("descent", "join"):
+        raise ContactError(f"restart = {restart!r} must be 'descent' or 'join'")
+    restart_on_join = restart == "join"
     h = np.ascontiguousarray(_check_controls(heights, op, mean_pressure, penetration))
     shape = op.cell.shape
     n = h.size
@@ -303,6 +325,8 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         # pc = pc_cur − τ·tc; its negative cells are clipped; total = Σ max(pc, 0)
         pc, n_clip, total = kernels.pk_step(pc_cur, tc, tau, clip_buf)
         ov = ov_buf[:n_ov].copy() if n_ov else ov_buf[:0]
+        if restart_on_join and ov.size:
+            G_old = 0.0  # PK (1999): the next direction is the gradient
         exact = it % refresh == 0  # p̂ recomputed from p below: no incremental update
         changed = n_clip > 0 or ov.size > 0
         D = T

@@ -27,9 +27,10 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
-from .contact import sliding_direction
+from .contact import ContactError, check_penetration, sliding_direction
 from .io import FIELDS, SCALARS, STATUS
 from .io import attrs as _attrs
+from .layers import HalfSpace
 from .materials import Elastic, Material, MaterialError, Prony, StandardLinearSolid, Tabulated
 from .schema import SceneError, validate
 from .spectral import Cell, GridError, SpectralOperator
@@ -203,6 +204,8 @@ def _build_seed(spec: dict) -> Scene:
     d0 = steps[0] if name == "penetration" else None
     params = dict(zeta=s["zeta"], beta=s["beta"], Gamma=s["Gamma"], a0_tilde=s["a0_tilde"],
                   cells_per_wavelength=n, ny=ny, direction_deg=s["direction_deg"])
+    if name == "penetration" and model == "grid2d":
+        _check_penetration(HalfSpace(), mat.nu, sinusoid(cell, 1.0), steps)
     return Scene(cell, mat, sinusoid(cell, 1.0), (v * np.cos(phi), v * np.sin(phi)),
                  np.pi * s["Gamma"], s["a0_tilde"], p0, d0, "sinusoid", params, None, model,
                  spec, control=(name, steps))
@@ -221,6 +224,15 @@ def _material(m: dict, base: Path, problems: list) -> Material | None:
     except MaterialError as exc:
         problems.append(f"material: {exc}")
         return None
+
+
+def _check_penetration(layer, nu, h, values):
+    """Penetrations the slab cannot take (mean u = 0: Δ < max h − mean h), refused while the
+    scene is built, before any solve of a path."""
+    try:
+        check_penetration(layer, nu, h, values)
+    except ContactError as exc:
+        raise SceneError([f"control.{exc}"]) from exc
 
 
 def _layer(ly: dict):
@@ -325,10 +337,13 @@ def _build_physical(spec: dict, base: Path) -> Scene:
     ctl = spec["control"]
     name = "mean_pressure" if ctl["mean_pressure"] is not None else "penetration"
     values = ctl[name] if isinstance(ctl[name], list) else [ctl[name]]
+    layer = _layer(spec["layer"])
+    if name == "penetration" and model == "grid2d":
+        _check_penetration(layer, mat.nu, h, values)
     return Scene(cell, mat, h, _velocity(spec["motion"]), dgamma, adh["a0"] or 0.0,
                  values[0] if name == "mean_pressure" else None,
                  values[0] if name == "penetration" else None, "physical",
-                 {"name": spec["scene"]["name"]}, _layer(spec["layer"]), model, spec,
+                 {"name": spec["scene"]["name"]}, layer, model, spec,
                  dict(spec["solver"]), spec["output"]["fields"], (name, list(values)))
 def _edges_y_invariant(mask, offset, cell):
     """Trailing/leading edge distances (l1, l2) from the summit, averaged over rows, with the

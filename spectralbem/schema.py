@@ -97,8 +97,10 @@ SECTIONS = {
         "mean_pressure": _k("number_or_numbers", "mean (nominal) pressure, compressive "
                             "positive; a list is a load/unload path run in order", "Pa",
                             -1e12, 1e12, default=None),
-        "penetration": _k("number_or_numbers", "penetration Δ (mean-level gauge); a list is "
-                          "a path", "m", -1e3, 1e3, default=None),
+        "penetration": _k("number_or_numbers", "penetration Δ (mean-level gauge); below "
+                          "max h − mean h on a half-space, an A.5 layer or an incompressible "
+                          "glued layer (their mean displacement is 0); a list is a path", "m",
+                          -1e3, 1e3, default=None),
     },
     "solver": {
         "tol": _k("number", "relative tolerance of the contact / Krylov solves", "", 0, 1e-2,

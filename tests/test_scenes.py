@@ -83,6 +83,10 @@ MALFORMED = [
     ("control", {}, ["control.mean_pressure / control.penetration", "exactly one"]),
     ("control", {"mean_pressure": 1e3, "penetration": 1e-6}, ["exactly one"]),
     ("control.mean_pressure", -5.0, ["control.mean_pressure", "without adhesion", "(0, 1e12]"]),
+    # a half-space's mean displacement is 0: Δ < max h − mean h = 1e-5 m for this bisinusoid
+    ("control", {"penetration": [5e-6, 2e-5, 3e-5]},
+     ["control.penetration = 2e-05", "1 more", "max(h) - mean(h) = 1e-05",
+      "allowed (-inf, 1e-05)"]),
     ("control.mean_pressure", [1e3, "x"], ["control.mean_pressure[1]", "expected a number"]),
     ("motion.speed", -1.0, ["motion.speed", "[0, 1e+06]"]),
     ("motion.velocity", [0.1, float("nan")], ["motion.velocity[1]", "not finite"]),

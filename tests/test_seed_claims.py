@@ -75,6 +75,10 @@ def test_5_release_rate_bounds_and_shapes(load015, tensile):
     assert np.all(G1p[low] > 1) and np.all(G2p[low] < 1)
     assert np.any(G2p[Z > 1] > G1p[Z > 1])  # p̃∞ > 0: G2 > G1 at high ζ
     assert G1p.min() < 1 and G2p.max() > 1
+    # "conditions exist able to completely mask adhesion at the opening edge" (seed, Section
+    # 5): G1 ≤ 0 — measured G1/Δγ = −0.30 at ζ = 3 (the non-conservative work δL_P1 of the
+    # trailing edge's advance exceeds Δγ·a0, Eq. 20)
+    assert G1p.min() < 0
 
 
 def test_5_extrema_monotonic_in_beta():

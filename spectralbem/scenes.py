@@ -30,7 +30,7 @@ from . import __version__
 from .contact import ContactError, check_penetration, sliding_direction
 from .io import FIELDS, SCALARS, STATUS
 from .io import attrs as _attrs
-from .layers import HalfSpace
+from .layers import GluedLayer, HalfSpace, PressureLayer
 from .materials import Elastic, Material, MaterialError, Prony, StandardLinearSolid, Tabulated
 from .schema import SceneError, validate
 from .spectral import Cell, GridError, SpectralOperator
@@ -236,8 +236,6 @@ def _check_penetration(layer, nu, h, values):
 
 
 def _layer(ly: dict):
-    from .layers import GluedLayer, HalfSpace, PressureLayer
-
     return {"half_space": lambda: HalfSpace(), "glued": lambda: GluedLayer(ly["thickness"]),
             "pressure": lambda: PressureLayer(ly["thickness"])}[ly["kind"]]()
 

@@ -373,6 +373,10 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         pc_cur = pc
     else:
         message = f"not converged in {maxiter} iterations (error {err:.3e} > tol {tol:.1e})"
+        span = float(kn.max() / kn[kn > 0].min()) if np.any(kn > 0) else 1.0
+        if span > 1e5:  # CG's rate degrades as √span (a half-space at 2048²: 1.4e3)
+            message += (f"; the kernel spans {span:.1e} (a thin {type(op.layer).__name__}?), "
+                        "on which conjugate gradients converge slowly (docs/performance.md)")
     rin[:] = 0.0
     p[:] = 0.0
     p.put(idx, pc_cur)

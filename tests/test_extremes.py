@@ -81,6 +81,22 @@ def test_layer_thickness_range(kind):
         assert areas[0] < areas[-1]
 
 
+def test_thin_layer_under_pressure_says_why_it_does_not_converge():
+    """A rough 64² surface on a layer under pressure (A.5) of d = 0.01 L: the kernel spans
+    9.3e5 (S ~ 6/(qd)³), and PK does not converge in 300 iterations (error 2e-2, measured);
+    the message says so and names the kernel's span (docs/performance.md, the restart
+    section).  A d = 0.1 L layer (span 1.2e3) converges in 123."""
+    cell = Cell(1.0, 1.0, 64, 64)
+    h = sb.surfaces.self_affine(cell, 0.8, rolloff=2 * np.pi * 4,
+                                cutoff=2 * np.pi / (4 * cell.hx), rms_slope=0.1, seed=3)
+    thin = SpectralOperator(cell, Elastic(1.0, 0.3), PressureLayer(0.01))
+    r = solve_contact(thin, h, mean_pressure=4e-3, maxiter=300)
+    assert not r.converged
+    assert "not converged in 300 iterations" in r.message and "kernel spans 9.3e+05" in r.message
+    thick = SpectralOperator(cell, Elastic(1.0, 0.3), PressureLayer(0.1))
+    assert solve_contact(thick, h, mean_pressure=4e-3, maxiter=300).converged
+
+
 def test_gamma_range_to_spontaneous_full_contact():
     """Elastic sinusoid by the 1D method at p̃ = 0.1: Γ from 0 to beyond the spontaneous
     full-contact value of Johnson (1995).  Partial states match Johnson's ã to 1e-5; beyond

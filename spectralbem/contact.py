@@ -116,28 +116,23 @@ def _check_controls(heights, op, mean_pressure, penetration):
     return h
 
 
-def penetration_limit(layer, nu: float, heights) -> float | None:
-    """The supremum of the admissible penetrations Δ, or None when every Δ is admissible.
+def check_penetration(layer, nu: float, heights, values) -> None:
+    """Raise :class:`ContactError` naming the first penetration of ``values`` that admits no
+    equilibrium (and how many more do not), before any solve.
 
     When the slab's mean displacement is 0 — the q = 0 mode dropped (half-space, layer under
     uniform pressure, A.5) or an incompressible layer glued to a rigid plate — g = u - w ≥ 0
     needs mean(w) = mean(h) - max(h) + Δ < 0, i.e. Δ < max(h) - mean(h) (at equality the
     contact is full and the mean pressure undetermined).  A compressible glued layer has a
     finite q = 0 compliance (A.4) and accepts any Δ."""
-    if layer.q0_compliance(1.0, nu):  # None (mode dropped) and 0 (incompressible) bound Δ
-        return None
+    c0 = layer.q0_compliance(1.0, nu)
+    if c0:  # None (mode dropped) and 0 (incompressible) bound Δ
+        return
     h = np.asarray(heights, dtype=float)
-    return float(h.max() - h.mean())
-
-
-def check_penetration(layer, nu: float, heights, values) -> None:
-    """Raise :class:`ContactError` naming the first penetration of ``values`` that is not
-    below :func:`penetration_limit` (and how many more are not), before any solve."""
-    limit = penetration_limit(layer, nu, heights)
-    bad = [] if limit is None else [v for v in values if not float(v) < limit]
+    limit = float(h.max() - h.mean())
+    bad = [v for v in values if not float(v) < limit]
     if bad:
-        why = ("an incompressible layer glued to a rigid plate"
-               if layer.q0_compliance(1.0, nu) == 0 else
+        why = ("an incompressible layer glued to a rigid plate" if c0 == 0 else
                f"{type(layer).__name__}: the q = 0 mode is dropped")
         more = f" (and {len(bad) - 1} more values)" if len(bad) > 1 else ""
         raise ContactError(
@@ -233,7 +228,6 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     if full is not None and np.all(full[0] >= 0):
         u = op.apply(full[0])
         return full[0], u, full[1], 0, True, "full contact", 2.0
-    checked = 0 if full is None else 1  # the check's transform pair counts too
     if load:
         target = float(mean_pressure)
         w = (h - hmax).ravel()
@@ -254,7 +248,8 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             if not np.any(p > 0):
                 p[np.argmax(w)] = 1.0
             p *= hrange / max(float(op.apply(p.reshape(shape)).max()), 1e-300)
-    forwards = inverses = 1
+    # the start's pair, and the full-contact check's when it ran
+    forwards = inverses = 1 if full is None else 2
     rin = pl.input_buffer.reshape(-1)  # zero outside the contact set between transforms
     spec = pl.spectrum_buffer
 
@@ -298,7 +293,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
                 message = "no contact: the indenter does not reach the surface"
                 converged = True
             break
-        gbar, e_sum, p_sum, G = kernels.contact_gap(u, idx, wc, pc_cur, load, gc)
+        gbar, e_sum, p_sum, G, g_t = kernels.contact_gap(u, idx, wc, pc_cur, tc, load, gc)
         # convergence test on the current state: complementarity and no overlap
         n_ov = kernels.gap_scan(u, w_out, gbar, ov_buf)
         overlap_min = (float(np.min(u.take(ov_buf[:n_ov]) - w.take(ov_buf[:n_ov]))) - gbar
@@ -312,9 +307,12 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             break
         forwards += 1
         # Fletcher–Reeves β = G/G_old, kept across changes of the contact set; restarted (β = 0)
-        # only when t would not be a descent direction (see the docstring)
-        gc_tc, _ = kernels.direction(gc, tc, G / G_old if G_old > 0 else 0.0, load, rin,
-                                     idx, G)
+        # only when t would not be a descent direction: ⟨g, g + βt⟩ = G + β⟨g, t⟩ ≤ 0 (g is
+        # mean-free under load control, so t's mean removal leaves the product unchanged)
+        beta = G / G_old if G_old > 0 else 0.0
+        if not G + beta * g_t > 0:
+            beta = 0.0
+        gc_tc = kernels.direction(gc, tc, beta, load, rin, idx)
         G_old = G
         T = pl.forward_buffer()  # the plan's output buffer
         denom = kernels.parseval_sum(T, kn, mult)  # ⟨C t, t⟩ by Parseval
@@ -381,7 +379,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     p[:] = 0.0
     p.put(idx, pc_cur)
     delta = gbar if load else float(penetration)
-    pairs = 0.5 * (forwards + inverses) + checked
+    pairs = 0.5 * (forwards + inverses)
     return p.reshape(shape), u.reshape(shape).copy(), delta, it, converged, message, pairs
 
 
@@ -498,9 +496,9 @@ def active_set(op: SpectralOperator, heights, *, mean_pressure=None, penetration
 def solve_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetration=None,
                   tol: float = 1e-10, maxiter: int = 10000, p0=None,
                   mask0=None) -> ContactResult:
-    """Adhesiveless contact of the rigid profile ``heights`` under load or penetration control."""
-    h = _check_controls(heights, op, mean_pressure, penetration)
-    hmax = float(h.max())
+    """Adhesiveless contact of the rigid profile ``heights`` under load or penetration control
+    (the solver validates the inputs before any work)."""
+    h = np.asarray(heights, dtype=float)
     if op.symmetric:
         p, u, delta, its, conv, msg, pairs = polonsky_keer(
             op, h, mean_pressure=mean_pressure, penetration=penetration, tol=tol,
@@ -519,7 +517,7 @@ def solve_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         msg = "non-finite pressure or displacement: " + msg
         p = np.nan_to_num(p)
         u = np.nan_to_num(u)
-    gap = u - (h - hmax + delta)
+    gap = u - (h - float(h.max()) + delta)
     gap[mask] = 0.0
     fr = friction(op, h, p, u)
     return ContactResult(

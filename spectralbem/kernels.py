@@ -16,9 +16,8 @@ the summation order, slower).  ``backend()`` tells which is in use.
   contact set (the overlap test of PK; no minimum and no mask test per cell: one compare
   per cell, a branch taken only at the rare overlaps).
 * :func:`contact_gap` — on the contact set: the gap, its mean (load control) and the sums
-  of the PK error and step.
-* :func:`direction` — the conjugate direction (restarted when it is not a descent
-  direction), written into the FFT input as well.
+  of the PK error and step, and ⟨g, t_old⟩ for the descent test.
+* :func:`direction` — the conjugate direction, written into the FFT input as well.
 * :func:`pk_step` — the packed pressure step ``pc − τ·tc``, its negative cells (listed) and
   ``Σ max(pc, 0)``.
 * :func:`merge_set` — the new contact set: the cells with ``pc < 0`` dropped, the joining
@@ -68,22 +67,21 @@ def gap_scan_numpy(u, w_out, level, out_index):
     return int(ov.size)
 
 
-def contact_gap_numpy(u, idx, wc, pc, load, gc):
+def contact_gap_numpy(u, idx, wc, pc, tc, load, gc):
     np.subtract(u.take(idx), wc, out=gc)
     gbar = float(gc.mean()) if load else 0.0
     gc -= gbar
-    return gbar, float(np.dot(pc, np.abs(gc))), float(pc.sum()), float(np.dot(gc, gc))
+    return (gbar, float(np.dot(pc, np.abs(gc))), float(pc.sum()), float(np.dot(gc, gc)),
+            float(np.dot(gc, tc)))
 
 
-def direction_numpy(gc, tc, beta, load, rin, idx, G):
-    if beta != 0.0 and not G + beta * float(np.dot(gc, tc)) > 0.0:
-        beta = 0.0  # not a descent direction: restart
+def direction_numpy(gc, tc, beta, load, rin, idx):
     tc *= beta
     tc += gc
     if load:
         tc -= tc.mean()
     rin.put(idx, tc)
-    return float(np.dot(gc, tc)), beta == 0.0
+    return float(np.dot(gc, tc))
 
 
 def pk_step_numpy(pc_cur, tc, tau, clip_pos):
@@ -154,7 +152,7 @@ if numba is not None:
         return n
 
     @_jit
-    def _contact_gap(u, idx, wc, pc, load, gc):  # pragma: no cover - compiled
+    def _contact_gap(u, idx, wc, pc, tc, load, gc):  # pragma: no cover - compiled
         n = idx.size
         s = 0.0
         for k in range(n):
@@ -165,23 +163,19 @@ if numba is not None:
         e = 0.0
         ps = 0.0
         G = 0.0
+        d = 0.0
         for k in range(n):
             g = gc[k] - gbar
             gc[k] = g
             e += pc[k] * abs(g)
             ps += pc[k]
             G += g * g
-        return gbar, e, ps, G
+            d += g * tc[k]
+        return gbar, e, ps, G, d
 
     @_jit
-    def _direction(gc, tc, beta, load, rin, idx, G):  # pragma: no cover - compiled
+    def _direction(gc, tc, beta, load, rin, idx):  # pragma: no cover - compiled
         n = idx.size
-        if beta != 0.0:
-            d_old = 0.0
-            for k in range(n):
-                d_old += gc[k] * tc[k]
-            if not G + beta * d_old > 0.0:
-                beta = 0.0
         s = 0.0
         for k in range(n):
             t = gc[k] + beta * tc[k]
@@ -194,7 +188,7 @@ if numba is not None:
             tc[k] = t
             rin[idx[k]] = t
             d += gc[k] * t
-        return d, beta == 0.0
+        return d
 
     @_jit
     def _pk_step(pc_cur, tc, tau, clip_pos):  # pragma: no cover - compiled
@@ -290,19 +284,16 @@ if numba is not None:
                                    np.ascontiguousarray(y, dtype=float), float(lam),
                                    float(inv_dx), float(guard), out, near_index))
 
-    def contact_gap(u, idx, wc, pc, load, gc):
+    def contact_gap(u, idx, wc, pc, tc, load, gc):
         """On the contact set ``idx``: gc = u[idx] − wc − ḡ (ḡ its mean under load control,
-        else 0), written in place; returns (ḡ, Σ pc|gc|, Σ pc, Σ gc²)."""
-        return _contact_gap(u, idx, wc, pc, bool(load), gc)
+        else 0), written in place; returns (ḡ, Σ pc|gc|, Σ pc, Σ gc², Σ gc·tc) — the last
+        for the descent test of the next direction."""
+        return _contact_gap(u, idx, wc, pc, tc, bool(load), gc)
 
-    def direction(gc, tc, beta, load, rin, idx, G):
+    def direction(gc, tc, beta, load, rin, idx):
         """tc ← gc + β·tc (mean-free under load control), in place, also written to
-        ``rin[idx]``, with β set to 0 (a restart) when the result would not be a descent
-        direction, ⟨gc, tc⟩ = G + β⟨gc, tc_old⟩ ≤ 0 (G = ⟨gc, gc⟩; gc is mean-free under load
-        control, so the mean removal does not change the product); returns (⟨gc, tc⟩,
-        whether β = 0 was used)."""
-        d, restart = _direction(gc, tc, float(beta), bool(load), rin, idx, float(G))
-        return float(d), bool(restart)
+        ``rin[idx]``; returns ⟨gc, tc⟩."""
+        return float(_direction(gc, tc, float(beta), bool(load), rin, idx))
 
     def parseval_sum(T: np.ndarray, k: np.ndarray, m: np.ndarray) -> float:
         """Σ m_j k_ij |T_ij|² for a complex half spectrum T, real k of the same shape and the

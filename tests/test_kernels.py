@@ -81,29 +81,23 @@ def test_contact_gap_and_direction(n, seed, load, beta):
     g = u[idx] - w[idx]
     gbar = g.mean() if load else 0.0
     g = g - gbar
-    G = g @ g
-    # restart (β = 0) when gc + β·tc0 would not be a descent direction
-    restart = beta != 0 and not G + beta * (g @ tc0) > 0
-    t = g + (0.0 if restart else beta) * tc0
+    t = g + beta * tc0
     if load:
         t = t - t.mean()
     # sums of ≤ 300 O(1) terms in another order: agreement to 1e-12 absolute
     for gap, dirn in ((kernels.contact_gap, kernels.direction),
                       (kernels.contact_gap_numpy, kernels.direction_numpy)):
         gc = np.empty(n)
-        r = gap(u, idx, w[idx], pc, load, gc)
-        np.testing.assert_allclose(r, (gbar, pc @ np.abs(g), pc.sum(), g @ g), rtol=1e-12,
-                                   atol=1e-12)
+        r = gap(u, idx, w[idx], pc, tc0, load, gc)
+        np.testing.assert_allclose(r, (gbar, pc @ np.abs(g), pc.sum(), g @ g, g @ tc0),
+                                   rtol=1e-12, atol=1e-12)
         np.testing.assert_allclose(gc, g, atol=1e-12)
         tc, rin = tc0.copy(), np.zeros(m)
-        d, restarted = dirn(gc, tc, beta, load, rin, idx, G)
-        assert restarted == (restart or beta == 0)
+        d = dirn(gc, tc, beta, load, rin, idx)
         np.testing.assert_allclose(tc, t, atol=1e-12)
         assert d == pytest.approx(g @ t, rel=1e-12, abs=1e-12)
-        # a descent direction whatever tc0 was (G > 0 almost surely for n > 1), unless the
-        # kept direction's product is positive by less than its rounding
-        if n > 1 and (restart or beta == 0 or G + beta * (g @ tc0) > 1e-9 * G):
-            assert d > 0
+        # the descent test of polonsky_keer: ⟨g, t⟩ = G + β⟨g, tc0⟩ (g mean-free under load)
+        assert d == pytest.approx(g @ g + beta * (g @ tc0), rel=1e-10, abs=1e-10)
         np.testing.assert_array_equal(rin[idx], tc)
         assert not np.any(np.delete(rin, idx))
 

@@ -293,11 +293,11 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
                 message = "no contact: the indenter does not reach the surface"
                 converged = True
             break
-        gbar, e_sum, p_sum, G, g_t = kernels.contact_gap(u, idx, wc, pc_cur, tc, load, gc)
+        # the gap on the contact set and the overlap scan of the other cells (the deepest
+        # overlap, 0: none)
+        gbar, e_sum, p_sum, G, g_t, t_mean, n_ov, overlap_min = kernels.gap_state(
+            u, idx, wc, pc_cur, tc, load, gc, w_out, ov_buf)
         # convergence test on the current state: complementarity and no overlap
-        n_ov = kernels.gap_scan(u, w_out, gbar, ov_buf)
-        overlap_min = (float(np.min(u.take(ov_buf[:n_ov]) - w.take(ov_buf[:n_ov]))) - gbar
-                       if n_ov else 0.0)  # the deepest overlap (0: none)
         err = e_sum / (p_sum * hrange)
         if not np.isfinite(err):
             message = f"non-finite error at iteration {it}"
@@ -312,7 +312,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         beta = G / G_old if G_old > 0 else 0.0
         if not G + beta * g_t > 0:
             beta = 0.0
-        gc_tc = kernels.direction(gc, tc, beta, load, rin, idx)
+        gc_tc = kernels.direction(gc, tc, beta, t_mean, rin, idx)
         G_old = G
         T = pl.forward_buffer()  # the plan's output buffer
         denom = kernels.parseval_sum(T, kn, mult)  # ⟨C t, t⟩ by Parseval
@@ -322,42 +322,35 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         tau = gc_tc / denom
         # pc = pc_cur − τ·tc; its negative cells are clipped; total = Σ max(pc, 0)
         pc, n_clip, total = kernels.pk_step(pc_cur, tc, tau, clip_buf)
-        ov = ov_buf[:n_ov].copy() if n_ov else ov_buf[:0]
-        if restart_on_join and ov.size:
+        ov = ov_buf[:n_ov]  # the joining cells (sorted)
+        if restart_on_join and n_ov:
             G_old = 0.0  # PK (1999): the next direction is the gradient
         exact = it % refresh == 0  # p̂ recomputed from p below: no incremental update
-        changed = n_clip > 0 or ov.size > 0
+        changed = n_clip > 0 or n_ov > 0
         D = T
         if changed:
-            clipped = clip_buf[:n_clip]  # positions in the packed arrays
-            out = idx.take(clipped)
-            pov = -tau * (u.take(ov) - w.take(ov) - gbar)
-            total += float(pov.sum())
-            if not exact and out.size + ov.size <= k_sparse:
-                # few cells: D = T + FFT(δ) by the direct sum over them, no transform
-                pl.add_sparse(T, np.concatenate([out, ov]),
-                              np.concatenate([pc.take(clipped) / tau, -pov / tau]))
-                rin.put(out, 0.0)  # rin stays zero outside the contact set
-            elif not exact:
-                # the projection correction c (c = -p on clipped cells, the overlap-driven
-                # pressure on joining cells) folded into the step: D = FFT(t - c/τ),
-                # p̂ ← p̂ - τD (on a clipped cell t - c/τ = tc + pc/τ = pc_cur/τ)
-                rin.put(out, pc_cur.take(clipped) / tau)
-                rin.put(ov, -pov / tau)
+            # the projection correction c: c = −pc on clipped cells, the overlap-driven
+            # pressure pov on joining cells
+            dense = not exact and n_clip + n_ov > k_sparse
+            cells, vals, pov, pov_sum = kernels.corrections(
+                idx, clip_buf[:n_clip], pc, pc_cur, tau, ov, u, w, gbar, rin, dense)
+            total += pov_sum
+            if dense:
+                # folded into the step: D = FFT(t − c/τ), p̂ ← p̂ − τD (rin holds t − c/τ)
                 forwards += 1
                 D = pl.forward_buffer()
-                rin.put(out, 0.0)
+            elif not exact:
+                # few cells: D = T + FFT(−c/τ) by the direct sum over them, no transform
+                pl.add_sparse(T, cells, vals)
         scale = target * n / total if load else 1.0
         if not (np.isfinite(scale) and scale > 0):
             message = f"pressure collapsed at iteration {it}: the load cannot be carried"
             break
-        pc *= scale
-        if changed:  # drop the clipped cells (pc < 0), merge the joining ones in
-            pov *= scale
-            w_out[out] = w.take(out)
-            w_out[ov] = -np.inf
-            idx, tc, pc, wc = kernels.merge_set(idx, tc, pc, wc, ov, pov, w)
+        if changed:  # drop the clipped cells (pc < 0), merge the joining ones in, rescale
+            idx, tc, pc, wc = kernels.merge_set(idx, tc, pc, wc, ov, pov, w, scale, w_out, rin)
             gc = np.empty(idx.size)
+        else:
+            pc *= scale
         if exact:  # p̂ from p (no drift of the incremental update)
             p[:] = 0.0
             p.put(idx, pc)

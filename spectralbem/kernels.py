@@ -1,27 +1,31 @@
 """Compiled inner loops: the Polonsky–Keer iteration (:func:`spectralbem.contact.polonsky_keer`)
 and the 1D kernel table (:class:`spectralbem.sinusoid1d.Kernel1D`).
 
-At 1024² and above one PK iteration is memory-bound outside its FFTs: numpy needs one full
-pass per operation (a subtraction, a minimum, a mask, a product, ...).  These seven loops
-read each array once.  They are compiled with numba (``cache=True``: the first use in a fresh
-checkout compiles all seven in ~0.7 s, later processes load them in ~0.2 s); without numba, or with
+Outside its FFTs one PK iteration is memory-bound: numpy needs one full pass per operation
+(a subtraction, a minimum, a mask, a product, ...) and a Python call for each.  These loops
+read each array once, and fuse what one iteration does between two transforms into a few
+calls.  They are compiled with numba (``cache=True``: the first use in a fresh checkout
+compiles them in ~1 s, later processes load them in ~0.2 s); without numba, or with
 ``SPECTRALBEM_JIT=0``, the same functions run as numpy expressions (identical results up to
 the summation order, slower).  ``backend()`` tells which is in use.
 
+* :func:`gap_state` — after the inverse transform: on the contact set the gap, its mean
+  (load control), the sums of the PK error and step and ⟨g, t_old⟩ for the descent test; on
+  the other cells the overlap scan ``u − w_out < ḡ`` (``w_out = −∞`` on the contact set:
+  one compare per cell, counted block by block so that the count vectorises, the cells
+  listed only in the rare blocks that have one).
+* :func:`direction` — the conjugate direction, written into the FFT input as well.
 * :func:`parseval_sum` — ``Σ_q m_q k_q |T_q|²`` over a half spectrum (m_q the column
   multiplicity): ⟨C t, t⟩ by Parseval.
-* :func:`spectrum_step` — ``P ← P + a·D`` and ``out = (s·k)·P`` in one pass (the pressure
-  spectrum update and the kernel product that feeds the inverse transform).
-* :func:`gap_scan` — the cells where ``u − w_out < level``, with ``w_out = −∞`` on the
-  contact set (the overlap test of PK; no minimum and no mask test per cell: one compare
-  per cell, a branch taken only at the rare overlaps).
-* :func:`contact_gap` — on the contact set: the gap, its mean (load control) and the sums
-  of the PK error and step, and ⟨g, t_old⟩ for the descent test.
-* :func:`direction` — the conjugate direction, written into the FFT input as well.
 * :func:`pk_step` — the packed pressure step ``pc − τ·tc``, its negative cells (listed) and
   ``Σ max(pc, 0)``.
+* :func:`corrections` — the projection correction of a step that changes the contact set
+  (clipped and joining cells), as a list for the direct sum or written into the FFT input.
 * :func:`merge_set` — the new contact set: the cells with ``pc < 0`` dropped, the joining
-  cells merged in (both index lists sorted), with their t, p and w.
+  cells merged in (both index lists sorted), with their t, p and w, the load rescaling
+  applied, the full-grid arrays (``w_out``, the FFT input) updated where cells changed.
+* :func:`spectrum_step` — ``P ← P + a·D`` and ``out = (s·k)·P`` in one pass (the pressure
+  spectrum update and the kernel product that feeds the inverse transform).
 * :func:`periodic_cubic` — the 1D method's viscoelastic kernel remainder: a periodic
   piecewise cubic evaluated at M × Q distances without temporaries (it was 70 % of a 1D
   solve at ζ = 1e-3 as numpy passes).
@@ -61,25 +65,23 @@ def spectrum_step_numpy(P, D, a, k, s, out) -> None:
     np.multiply(P, k * s, out=out)
 
 
-def gap_scan_numpy(u, w_out, level, out_index):
-    ov = np.flatnonzero(u - w_out < level)
-    out_index[: ov.size] = ov
-    return int(ov.size)
-
-
-def contact_gap_numpy(u, idx, wc, pc, tc, load, gc):
+def gap_state_numpy(u, idx, wc, pc, tc, load, gc, w_out, ov_buf):
     np.subtract(u.take(idx), wc, out=gc)
-    gbar = float(gc.mean()) if load else 0.0
+    gbar = float(gc.mean()) if (load and gc.size) else 0.0
     gc -= gbar
+    t_mean = float(tc.mean()) if (load and tc.size) else 0.0
+    d = u - w_out
+    ov = np.flatnonzero(d < gbar)
+    ov_buf[: ov.size] = ov
+    ov_min = float(d[ov].min()) - gbar if ov.size else 0.0
     return (gbar, float(np.dot(pc, np.abs(gc))), float(pc.sum()), float(np.dot(gc, gc)),
-            float(np.dot(gc, tc)))
+            float(np.dot(gc, tc)), t_mean, int(ov.size), ov_min)
 
 
-def direction_numpy(gc, tc, beta, load, rin, idx):
+def direction_numpy(gc, tc, beta, shift, rin, idx):
+    tc -= shift
     tc *= beta
     tc += gc
-    if load:
-        tc -= tc.mean()
     rin.put(idx, tc)
     return float(np.dot(gc, tc))
 
@@ -91,15 +93,31 @@ def pk_step_numpy(pc_cur, tc, tau, clip_pos):
     return pc, int(neg.size), float(np.maximum(pc, 0.0).sum())
 
 
-def merge_set_numpy(idx, tc, pc, wc, ov, pov, w):
+def corrections_numpy(idx, clip_pos, pc, pc_cur, tau, ov, u, w, gbar, rin, dense):
+    out = idx.take(clip_pos)
+    dg = u.take(ov) - w.take(ov) - gbar  # < 0: the joining cells' overlap
+    pov = -tau * dg
+    if dense:
+        rin.put(out, pc_cur.take(clip_pos) / tau)
+        rin.put(ov, dg)
+    cells = np.concatenate([out, ov])
+    vals = np.concatenate([pc.take(clip_pos) / tau, dg])
+    return cells, vals, pov, float(pov.sum())
+
+
+def merge_set_numpy(idx, tc, pc, wc, ov, pov, w, scale, w_out, rin):
     keep = pc >= 0
-    idx, tc, pc, wc = idx[keep], tc[keep], pc[keep], wc[keep]
+    out = idx[~keep]
+    w_out[out] = w.take(out)
+    rin[out] = 0.0
+    w_out[ov] = -np.inf
+    idx, tc, pc, wc = idx[keep], tc[keep], pc[keep] * scale, wc[keep]
     if ov.size:
         idx = np.concatenate([idx, ov])
         order = np.argsort(idx, kind="stable")
         idx = idx[order]
         tc = np.concatenate([tc, np.zeros(ov.size)])[order]
-        pc = np.concatenate([pc, pov])[order]
+        pc = np.concatenate([pc, pov * scale])[order]
         wc = np.concatenate([wc, w.take(ov)])[order]
     return idx, tc, pc, wc
 
@@ -143,16 +161,21 @@ if numba is not None:
             out[i] = (s * k[i]) * v
 
     @_jit
-    def _gap_scan(u, w_out, level, out_index):  # pragma: no cover - compiled
-        n = 0
-        for i in range(u.size):
-            if u[i] - w_out[i] < level:
-                out_index[n] = i
-                n += 1
-        return n
+    def _direction(gc, tc, beta, shift, rin, idx):  # pragma: no cover - compiled
+        d = 0.0
+        for k in range(idx.size):
+            t = gc[k] + beta * (tc[k] - shift)
+            tc[k] = t
+            rin[idx[k]] = t
+            d += gc[k] * t
+        return d
+
+    #: cells per block of the overlap scan: a vectorised count per block, the cells listed
+    #: only in the rare blocks that have an overlap
+    _SCAN_BLOCK = 256
 
     @_jit
-    def _contact_gap(u, idx, wc, pc, tc, load, gc):  # pragma: no cover - compiled
+    def _gap_state(u, idx, wc, pc, tc, load, gc, w_out, ov_buf):  # pragma: no cover
         n = idx.size
         s = 0.0
         for k in range(n):
@@ -164,6 +187,7 @@ if numba is not None:
         ps = 0.0
         G = 0.0
         d = 0.0
+        ts = 0.0
         for k in range(n):
             g = gc[k] - gbar
             gc[k] = g
@@ -171,24 +195,31 @@ if numba is not None:
             ps += pc[k]
             G += g * g
             d += g * tc[k]
-        return gbar, e, ps, G, d
-
-    @_jit
-    def _direction(gc, tc, beta, load, rin, idx):  # pragma: no cover - compiled
-        n = idx.size
-        s = 0.0
-        for k in range(n):
-            t = gc[k] + beta * tc[k]
-            tc[k] = t
-            s += t
-        m = s / n if (load and n > 0) else 0.0
-        d = 0.0
-        for k in range(n):
-            t = tc[k] - m
-            tc[k] = t
-            rin[idx[k]] = t
-            d += gc[k] * t
-        return d
+            ts += tc[k]
+        t_mean = ts / n if (load and n > 0) else 0.0
+        # the overlap scan, block by block: a vectorised count, the cells listed only in the
+        # rare blocks that have one
+        m = 0
+        ov_min = 0.0
+        N = u.size
+        B = _SCAN_BLOCK
+        nb = N // B
+        for b in range(nb + 1):  # nb whole blocks, then the remainder
+            s = b * B
+            stop = min(s + B, N)
+            if b < nb:
+                c = 0
+                for i in range(s, s + B):  # fixed length: vectorised
+                    c += (u[i] - w_out[i]) < gbar
+                if c == 0:
+                    continue
+            for i in range(s, stop):
+                x = u[i] - w_out[i]
+                if x < gbar:
+                    ov_buf[m] = i
+                    m += 1
+                    ov_min = min(ov_min, x - gbar)
+        return gbar, e, ps, G, d, t_mean, m, ov_min
 
     @_jit
     def _pk_step(pc_cur, tc, tau, clip_pos):  # pragma: no cover - compiled
@@ -206,35 +237,72 @@ if numba is not None:
         return pc, nneg, total
 
     @_jit
-    def _merge_set(idx, tc, pc, wc, ov, pov, w):  # pragma: no cover - compiled
-        m = ov.size
+    def _corrections(idx, clip_pos, pc, pc_cur, tau, ov, u, w, gbar, rin,
+                     dense):  # pragma: no cover - compiled
+        nc = clip_pos.size
+        cells = np.empty(nc + ov.size, dtype=idx.dtype)
+        vals = np.empty(nc + ov.size)
+        pov = np.empty(ov.size)
+        for j in range(nc):
+            k = clip_pos[j]
+            c = idx[k]
+            cells[j] = c
+            vals[j] = pc[k] / tau
+            if dense:
+                rin[c] = pc_cur[k] / tau
+        s = 0.0
+        for j in range(ov.size):
+            c = ov[j]
+            dg = u[c] - w[c] - gbar
+            cells[nc + j] = c
+            vals[nc + j] = dg
+            pov[j] = -tau * dg
+            s += pov[j]
+            if dense:
+                rin[c] = dg
+        return cells, vals, pov, s
+
+    @_jit
+    def _merge_set(idx, tc, pc, wc, ov, pov, w, scale, w_out,
+                   rin):  # pragma: no cover - compiled
+        nov = ov.size
+        m = nov
         for k in range(idx.size):
-            if pc[k] >= 0.0:
-                m += 1
+            m += pc[k] >= 0.0
         idx2 = np.empty(m, dtype=idx.dtype)
         tc2 = np.empty(m)
         pc2 = np.empty(m)
         wc2 = np.empty(m)
-        i = 0
-        j = 0
         o = 0
-        while i < idx.size or j < ov.size:
-            if i < idx.size and pc[i] < 0.0:
-                i += 1
-                continue
-            if j < ov.size and (i >= idx.size or ov[j] < idx[i]):
-                c = ov[j]
+        j = 0
+        for i in range(idx.size):
+            c = idx[i]
+            while j < nov and ov[j] < c:  # the joining cells before c
+                d = ov[j]
+                idx2[o] = d
                 tc2[o] = 0.0
-                pc2[o] = pov[j]
-                wc2[o] = w[c]  # only the joining cells read the full grid
+                pc2[o] = pov[j] * scale
+                wc2[o] = w[d]  # only the joining cells read the full grid
+                w_out[d] = -np.inf
                 j += 1
-            else:
-                c = idx[i]
+                o += 1
+            if pc[i] >= 0.0:
+                idx2[o] = c
                 tc2[o] = tc[i]
-                pc2[o] = pc[i]
+                pc2[o] = pc[i] * scale
                 wc2[o] = wc[i]
-                i += 1
-            idx2[o] = c
+                o += 1
+            else:  # c leaves the contact set
+                w_out[c] = wc[i]
+                rin[c] = 0.0
+        while j < nov:  # the joining cells after the last one
+            d = ov[j]
+            idx2[o] = d
+            tc2[o] = 0.0
+            pc2[o] = pov[j] * scale
+            wc2[o] = w[d]
+            w_out[d] = -np.inf
+            j += 1
             o += 1
         return idx2, tc2, pc2, wc2
 
@@ -244,12 +312,24 @@ if numba is not None:
         pc, nneg, total = _pk_step(pc_cur, tc, float(tau), clip_pos)
         return pc, int(nneg), float(total)
 
-    def merge_set(idx, tc, pc, wc, ov, pov, w):
-        """The contact set after a step: the cells of ``idx`` with ``pc < 0`` dropped, the
-        cells ``ov`` (sorted, disjoint from ``idx``) merged in with t = 0 and p = ``pov``;
-        returns (idx, tc, pc, w[idx]), ``idx`` sorted (``wc`` = w[idx] on entry: only the
-        joining cells are read from the full grid)."""
-        return _merge_set(idx, tc, pc, wc, ov, pov, w)
+    def corrections(idx, clip_pos, pc, pc_cur, tau, ov, u, w, gbar, rin, dense):
+        """The projection correction of a PK step: the cells ``idx[clip_pos]`` that clip
+        (``pc < 0``) and the joining cells ``ov`` (overlap u − w − ḡ < 0).  Returns (cells,
+        vals, pov, Σ pov): the correction's cells and values for the direct sum
+        (pc/τ on clipped cells, u − w − ḡ on joining ones: D = T + FFT(vals)) and the joining
+        cells' pressure pov = −τ(u − w − ḡ).  With ``dense`` the same correction is written
+        into the direction ``rin`` instead (t − c/τ: pc_cur/τ on clipped cells, u − w − ḡ on
+        joining ones) for one more transform."""
+        return _corrections(idx, clip_pos, pc, pc_cur, float(tau), ov, u, w, float(gbar), rin,
+                            bool(dense))
+
+    def merge_set(idx, tc, pc, wc, ov, pov, w, scale, w_out, rin):
+        """The contact set after a step: the cells of ``idx`` with ``pc < 0`` dropped (w_out
+        and rin restored there: w and 0), the cells ``ov`` (sorted, disjoint from ``idx``)
+        merged in with t = 0 and p = ``pov`` (w_out = −∞ there), every pressure times
+        ``scale``; returns (idx, tc, pc, w[idx]), ``idx`` sorted (``wc`` = w[idx] on entry:
+        only the joining cells are read from the full grid)."""
+        return _merge_set(idx, tc, pc, wc, ov, pov, w, float(scale), w_out, rin)
 
     @_jit
     def _periodic_cubic(coefs, x, y, lam, inv_dx, guard, out, near_index):  # pragma: no cover
@@ -284,16 +364,22 @@ if numba is not None:
                                    np.ascontiguousarray(y, dtype=float), float(lam),
                                    float(inv_dx), float(guard), out, near_index))
 
-    def contact_gap(u, idx, wc, pc, tc, load, gc):
-        """On the contact set ``idx``: gc = u[idx] − wc − ḡ (ḡ its mean under load control,
-        else 0), written in place; returns (ḡ, Σ pc|gc|, Σ pc, Σ gc², Σ gc·tc) — the last
-        for the descent test of the next direction."""
-        return _contact_gap(u, idx, wc, pc, tc, bool(load), gc)
+    def direction(gc, tc, beta, shift, rin, idx):
+        """tc ← gc + β·(tc − shift), in place, also written to ``rin[idx]``; returns
+        ⟨gc, tc⟩ (shift = mean of tc under load control: the new direction is then as
+        mean-free as gc)."""
+        return float(_direction(gc, tc, float(beta), float(shift), rin, idx))
 
-    def direction(gc, tc, beta, load, rin, idx):
-        """tc ← gc + β·tc (mean-free under load control), in place, also written to
-        ``rin[idx]``; returns ⟨gc, tc⟩."""
-        return float(_direction(gc, tc, float(beta), bool(load), rin, idx))
+    def gap_state(u, idx, wc, pc, tc, load, gc, w_out, ov_buf):
+        """The state after an inverse transform.  On the contact set ``idx``: gc = u[idx] −
+        wc − ḡ (ḡ its mean under load control, else 0), written in place.  On the other
+        cells (``w_out`` = w there, −∞ on the contact set): the overlap scan u − w_out < ḡ,
+        the cells listed in ``ov_buf[:n]`` in increasing order.  Returns (ḡ, Σ pc|gc|,
+        Σ pc, Σ gc², Σ gc·tc — for the descent test of the next direction —, mean tc under
+        load control (else 0), n, the deepest overlap min(u − w_out) − ḡ over the n cells
+        (0 when n = 0))."""
+        r = _gap_state(u, idx, wc, pc, tc, bool(load), gc, w_out, ov_buf)
+        return (r[0], r[1], r[2], r[3], r[4], r[5], int(r[6]), r[7])
 
     def parseval_sum(T: np.ndarray, k: np.ndarray, m: np.ndarray) -> float:
         """Σ m_j k_ij |T_ij|² for a complex half spectrum T, real k of the same shape and the
@@ -307,17 +393,12 @@ if numba is not None:
         _spectrum_step(P.reshape(-1), D.reshape(-1), float(a), k.reshape(-1), float(s),
                        out.reshape(-1))
 
-    def gap_scan(u, w_out, level, out_index):
-        """The number n of cells with u − w_out < level (``w_out`` = w outside the contact
-        set, −∞ on it); their flat indices are written to ``out_index[:n]`` in increasing
-        order."""
-        return int(_gap_scan(u, w_out, float(level), out_index))
 else:  # pragma: no cover - the numpy build
     parseval_sum = parseval_sum_numpy
     spectrum_step = spectrum_step_numpy
-    gap_scan = gap_scan_numpy
-    contact_gap = contact_gap_numpy
     direction = direction_numpy
+    gap_state = gap_state_numpy
     pk_step = pk_step_numpy
     merge_set = merge_set_numpy
+    corrections = corrections_numpy
     periodic_cubic = periodic_cubic_numpy

@@ -54,50 +54,54 @@ def test_spectrum_step_rejects_a_strided_view():
         kernels.spectrum_step(P, P, 1.0, np.ones((8, 5)), 1.0, np.empty((8, 5), complex))
 
 
-@settings(max_examples=30, deadline=None)
-@given(n=st.integers(1, 500), seed=st.integers(0, 2**31), level=st.floats(-1, 1))
-def test_gap_scan(n, seed, level):
+@settings(max_examples=40, deadline=None)
+@given(n=st.integers(1, 300), extra=st.integers(0, 1200), seed=st.integers(0, 2**31),
+       load=st.booleans(), beta=st.floats(0, 5), shift=st.floats(-1, 1))
+def test_gap_state_and_direction(n, extra, seed, load, beta, shift):
     rng = np.random.default_rng(seed)
-    u, w = rng.normal(size=n), rng.normal(size=n)
-    inside = rng.random(n) < 0.3
-    d = np.where(inside, np.inf, u - w)
-    w_out = np.where(inside, -np.inf, w)
-    for scan in (kernels.gap_scan, kernels.gap_scan_numpy):
-        out = np.full(n, -1, dtype=np.intp)
-        k = scan(u, w_out, level, out)
-        # exact: the same subtractions and comparisons; u − (−∞) = +∞ never overlaps
-        np.testing.assert_array_equal(out[:k], np.flatnonzero(d < level))
-
-
-@settings(max_examples=30, deadline=None)
-@given(n=st.integers(1, 300), seed=st.integers(0, 2**31), load=st.booleans(),
-       beta=st.floats(0, 5))
-def test_contact_gap_and_direction(n, seed, load, beta):
-    rng = np.random.default_rng(seed)
-    m = 2 * n
+    m = n + extra  # grids of 1 to 1500 cells: whole scan blocks (256) and a remainder
     u, w = rng.normal(size=m), rng.normal(size=m)
     idx = np.sort(rng.choice(m, size=n, replace=False))
     pc, tc0 = rng.random(n), rng.normal(size=n)
     g = u[idx] - w[idx]
     gbar = g.mean() if load else 0.0
     g = g - gbar
-    t = g + beta * tc0
-    if load:
-        t = t - t.mean()
-    # sums of ≤ 300 O(1) terms in another order: agreement to 1e-12 absolute
-    for gap, dirn in ((kernels.contact_gap, kernels.direction),
-                      (kernels.contact_gap_numpy, kernels.direction_numpy)):
-        gc = np.empty(n)
-        r = gap(u, idx, w[idx], pc, tc0, load, gc)
-        np.testing.assert_allclose(r, (gbar, pc @ np.abs(g), pc.sum(), g @ g, g @ tc0),
-                                   rtol=1e-12, atol=1e-12)
+    t_mean = tc0.mean() if load else 0.0
+    # overlaps of the other cells at level ḡ (a shift moves the level through the data)
+    w = w + shift
+    w[idx] -= shift  # the contact set keeps its gap
+    inside = np.zeros(m, bool)
+    inside[idx] = True
+    w_out = np.where(inside, -np.inf, w)
+    d = np.where(inside, np.inf, u - w)
+    ov = np.flatnonzero(d < gbar)
+    ov_min = (d[ov].min() - gbar) if ov.size else 0.0
+    t = g + beta * (tc0 - t_mean)
+    for gap, dirn in ((kernels.gap_state, kernels.direction),
+                      (kernels.gap_state_numpy, kernels.direction_numpy)):
+        gc, ov_buf = np.empty(n), np.full(m, -1, dtype=np.intp)
+        r = gap(u, idx, w[idx], pc, tc0, load, gc, w_out, ov_buf)
+        # sums of ≤ 300 O(1) terms in another order: agreement to 1e-12 absolute
+        np.testing.assert_allclose(r[:6], (gbar, pc @ np.abs(g), pc.sum(), g @ g, g @ tc0,
+                                           t_mean), rtol=1e-12, atol=1e-12)
         np.testing.assert_allclose(gc, g, atol=1e-12)
+        # the scan is exact: the same subtractions and comparisons (u − (−∞) = +∞ never
+        # overlaps); ḡ may differ by rounding, so cells within 1e-12 of it are not compared
+        near = np.abs(d - gbar) < 1e-12
+        got = np.zeros(m, bool)
+        got[ov_buf[: r[6]]] = True
+        np.testing.assert_array_equal(got[~near], (d < gbar)[~near])
+        assert np.all(np.diff(ov_buf[: r[6]]) > 0)
+        assert r[7] == pytest.approx(ov_min, abs=1e-12)
         tc, rin = tc0.copy(), np.zeros(m)
-        d = dirn(gc, tc, beta, load, rin, idx)
+        dd = dirn(gc, tc, beta, r[5], rin, idx)
         np.testing.assert_allclose(tc, t, atol=1e-12)
-        assert d == pytest.approx(g @ t, rel=1e-12, abs=1e-12)
-        # the descent test of polonsky_keer: ⟨g, t⟩ = G + β⟨g, tc0⟩ (g mean-free under load)
-        assert d == pytest.approx(g @ g + beta * (g @ tc0), rel=1e-10, abs=1e-10)
+        if load:  # the shifted direction is mean-free like g
+            assert abs(tc.sum()) <= 1e-10 * max(1.0, np.abs(tc).sum())
+        assert dd == pytest.approx(g @ t, rel=1e-12, abs=1e-12)
+        # the descent test of polonsky_keer: ⟨g, t⟩ = G + β⟨g, tc0⟩ (g mean-free under load,
+        # so the shift drops out)
+        assert dd == pytest.approx(g @ g + beta * (g @ tc0), rel=1e-10, abs=1e-10)
         np.testing.assert_array_equal(rin[idx], tc)
         assert not np.any(np.delete(rin, idx))
 
@@ -119,8 +123,9 @@ def test_pk_step(n, seed, tau):
 
 
 @settings(max_examples=40, deadline=None)
-@given(n=st.integers(0, 200), k=st.integers(0, 50), seed=st.integers(0, 2**31))
-def test_merge_set(n, k, seed):
+@given(n=st.integers(0, 200), k=st.integers(0, 50), seed=st.integers(0, 2**31),
+       scale=st.floats(0.5, 2))
+def test_merge_set(n, k, seed, scale):
     rng = np.random.default_rng(seed)
     m = 2 * (n + k) + 1
     cells = rng.permutation(m)
@@ -129,15 +134,57 @@ def test_merge_set(n, k, seed):
                       rng.normal(size=m))
     keep = pc >= 0
     expect_idx = np.sort(np.concatenate([idx[keep], ov]))
+    w_out0 = np.where(np.isin(np.arange(m), idx), -np.inf, w)
+    rin0 = np.zeros(m)
+    rin0[idx] = tc
     for merge in (kernels.merge_set, kernels.merge_set_numpy):
-        i2, t2, p2, w2 = merge(idx, tc, pc, w[idx], ov, pov, w)
-        # exact: a permutation of copies
+        w_out, rin = w_out0.copy(), rin0.copy()
+        i2, t2, p2, w2 = merge(idx, tc, pc, w[idx], ov, pov, w, scale, w_out, rin)
+        # exact: a permutation of copies, the pressures times the scale (one rounding)
         np.testing.assert_array_equal(i2, expect_idx)
         np.testing.assert_array_equal(w2, w[expect_idx])
         t_of = dict(zip(idx[keep], tc[keep], strict=True)) | {c: 0.0 for c in ov}
         p_of = dict(zip(idx[keep], pc[keep], strict=True)) | dict(zip(ov, pov, strict=True))
         np.testing.assert_array_equal(t2, [t_of[c] for c in expect_idx])
-        np.testing.assert_array_equal(p2, [p_of[c] for c in expect_idx])
+        np.testing.assert_array_equal(p2, [p_of[c] * scale for c in expect_idx])
+        # the full-grid arrays follow the set: w_out = −∞ on it, w elsewhere; the FFT input
+        # zero on the cells that left (the others keep their direction)
+        inside = np.isin(np.arange(m), i2)
+        np.testing.assert_array_equal(w_out, np.where(inside, -np.inf, w))
+        np.testing.assert_array_equal(rin[idx[~keep]], 0.0)
+        np.testing.assert_array_equal(rin[idx[keep]], tc[keep])
+
+
+@settings(max_examples=40, deadline=None)
+@given(n=st.integers(1, 200), k=st.integers(0, 30), seed=st.integers(0, 2**31),
+       tau=st.floats(0.01, 3), dense=st.booleans())
+def test_corrections(n, k, seed, tau, dense):
+    rng = np.random.default_rng(seed)
+    m = 2 * (n + k) + 1
+    cells = rng.permutation(m)
+    idx, ov = np.sort(cells[:n]), np.sort(cells[n:n + k])
+    pc_cur, tc = rng.random(n), rng.normal(size=n)
+    pc = pc_cur - tau * tc
+    clip = np.flatnonzero(pc < 0)
+    u, w, gbar = rng.normal(size=m), rng.normal(size=m), 0.3
+    dg = u[ov] - w[ov] - gbar
+    for corr in (kernels.corrections, kernels.corrections_numpy):
+        rin = np.zeros(m)
+        rin[idx] = tc
+        c, v, pov, s = corr(idx, clip, pc, pc_cur, tau, ov, u, w, gbar, rin, dense)
+        # element-wise: one rounding each; the sum of ≤ 30 terms
+        np.testing.assert_array_equal(c, np.concatenate([idx[clip], ov]))
+        np.testing.assert_allclose(v, np.concatenate([pc[clip] / tau, dg]), rtol=1e-15)
+        np.testing.assert_allclose(pov, -tau * dg, rtol=1e-15)
+        assert s == pytest.approx(float(np.sum(-tau * dg)), rel=1e-13, abs=1e-13)
+        expect = np.zeros(m)
+        expect[idx] = tc
+        if dense:  # t − c/τ: pc_cur/τ on clipped cells (= tc + pc/τ), the overlap on joins
+            expect[idx[clip]] = pc_cur[clip] / tau
+            expect[ov] = dg
+            np.testing.assert_allclose(expect[idx[clip]], tc[clip] + pc[clip] / tau,
+                                       rtol=1e-12, atol=1e-12)
+        np.testing.assert_allclose(rin, expect, rtol=1e-15)
 
 
 def test_pk_same_with_numpy_loops(monkeypatch):
@@ -146,8 +193,8 @@ def test_pk_same_with_numpy_loops(monkeypatch):
                     rms_slope=0.1, seed=3)
     op = SpectralOperator(cell, Elastic(1.0, 0.3))
     fast = contact.polonsky_keer(op, h, mean_pressure=0.004, tol=1e-12)
-    for name in ("parseval_sum", "spectrum_step", "gap_scan", "contact_gap", "direction",
-                 "pk_step", "merge_set"):
+    for name in ("parseval_sum", "spectrum_step", "gap_state", "direction", "pk_step",
+                 "corrections", "merge_set"):
         monkeypatch.setattr(kernels, name, getattr(kernels, f"{name}_numpy"))
     slow = contact.polonsky_keer(op, h, mean_pressure=0.004, tol=1e-12)
     assert fast[4] and slow[4]

@@ -177,6 +177,14 @@ def sparse_max(n_cells: int) -> int:
     return int(SPARSE_MAX * max(1.0, np.sqrt(n_cells / 512**2)))
 
 
+#: kernel span max Ĉ / min Ĉ above which CG converges slowly (its rate degrades as √span;
+#: a half-space at 2048²: 1.4e3; a layer under pressure of thickness 0.01 L at 256²: 4.4e6)
+SPAN_SLOW = 1e5
+
+#: contact fraction at which polonsky_keer checks for full contact (once)
+FULL_CHECK = 0.9
+
+
 def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetration=None,
                   tol: float = 1e-10, maxiter: int = 10000, p0=None, refresh: int = 50,
                   restart: str = "descent"):
@@ -186,10 +194,11 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     folded into the scalar S): the step length uses Parseval, ⟨C t, t⟩ = Σ_q Ĉ |t̂|²/N, so an
     iteration costs one forward FFT (of the search direction t) and one inverse FFT
     (u = C p).  When the active set changes, the projection correction c (clipped cells,
-    cells that join) is folded into a second forward FFT, D = FFT(t − c/τ), that replaces
-    T in the update p̂ ← p̂ − τ·D — or, when at most :func:`sparse_max` cells change, added to T
-    by the direct sum over those cells (:meth:`~spectralbem.fft.RealFFT2.add_sparse`, no
-    transform); p̂ is recomputed exactly every ``refresh`` iterations.
+    cells that join) enters the update p̂ ← p̂ − τ·D as D = T + FFT(−c/τ), the transform of
+    the correction by the direct sum over its cells
+    (:meth:`~spectralbem.fft.RealFFT2.add_sparse`) when at most :func:`sparse_max` cells
+    change; when more change, a transform is due either way and p̂ = FFT(p) is recomputed
+    exactly instead (as it is after ``refresh`` incremental updates).
     Real-space work is done on packed index arrays of the contact set; the full-grid passes
     are the fused loops of :mod:`spectralbem.kernels`.  Under load control the search
     direction is kept mean-free on the contact (the mean-gap term of PK).
@@ -222,12 +231,17 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     mult = np.ascontiguousarray(op.cell.rfft_weights()[0])  # Parseval column multiplicities
     k_sparse = sparse_max(n)
     # full contact: the exact mode-by-mode solution, when it is admissible (p ≥ 0), is the
-    # answer — CG from a partial start can stall there when Ĉ spans many decades (thin
-    # layers under pressure, A.5); one transform pair, before any start is built
-    full = _full_contact(op, h, mean_pressure, penetration)
+    # answer.  Checked before any start is built when Ĉ spans many decades (thin layers
+    # under pressure, A.5: CG from a partial start can stall there), else once the contact
+    # set first covers FULL_CHECK of the cells (one transform pair that a partial contact
+    # of smaller extent never pays)
+    full = _full_contact(op, h, mean_pressure, penetration) if op.span > SPAN_SLOW else None
     if full is not None and np.all(full[0] >= 0):
         u = op.apply(full[0])
         return full[0], u, full[1], 0, True, "full contact", 2.0
+    # (under penetration control a zero-mean layer has no full-contact solution at a
+    # prescribed Δ: _full_contact returns None)
+    check_full = full is None and (load or kn[0, 0] != 0)
     if load:
         target = float(mean_pressure)
         w = (h - hmax).ravel()
@@ -280,12 +294,23 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     tc = np.zeros(idx.size)
     gc = np.empty(idx.size)
     G_old = 0.0  # the first direction is the gradient (β = 0)
+    since_exact = 0  # incremental updates of p̂ since it was last computed from p
     err = np.inf
     gbar = 0.0
     message = f"not converged in {maxiter} iterations"
     converged = False
     it = 0
     for it in range(1, maxiter + 1):
+        if check_full and idx.size >= FULL_CHECK * n:
+            check_full = False
+            u = u.copy()  # the check's transforms reuse the plan's buffers (u, rin)
+            full = _full_contact(op, h, mean_pressure, penetration)
+            rin[:] = 0.0  # (direction writes rin on the contact set)
+            forwards += 1
+            inverses += 1
+            if np.all(full[0] >= 0):
+                return (full[0], op.apply(full[0]), full[1], it - 1, True, "full contact",
+                        0.5 * (forwards + inverses) + 1.0)
         if idx.size == 0:
             if load or float(penetration) > 0:  # max w = Δ > 0: the bodies overlap
                 message = f"the contact set emptied at iteration {it} while the bodies overlap"
@@ -325,22 +350,18 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         ov = ov_buf[:n_ov]  # the joining cells (sorted)
         if restart_on_join and n_ov:
             G_old = 0.0  # PK (1999): the next direction is the gradient
-        exact = it % refresh == 0  # p̂ recomputed from p below: no incremental update
         changed = n_clip > 0 or n_ov > 0
-        D = T
+        # p̂ is recomputed from p (one forward transform, exact) when more cells change than
+        # a direct sum handles — transforming the correction would cost the same — and after
+        # ``refresh`` incremental updates (no drift); else p̂ ← p̂ − τ·D, D = T + FFT(−c/τ)
+        recompute = since_exact >= refresh or n_clip + n_ov > k_sparse
         if changed:
             # the projection correction c: c = −pc on clipped cells, the overlap-driven
             # pressure pov on joining cells
-            dense = not exact and n_clip + n_ov > k_sparse
             cells, vals, pov, pov_sum = kernels.corrections(
-                idx, clip_buf[:n_clip], pc, pc_cur, tau, ov, u, w, gbar, rin, dense)
+                idx, clip_buf[:n_clip], pc, tau, ov, u, w, gbar)
             total += pov_sum
-            if dense:
-                # folded into the step: D = FFT(t − c/τ), p̂ ← p̂ − τD (rin holds t − c/τ)
-                forwards += 1
-                D = pl.forward_buffer()
-            elif not exact:
-                # few cells: D = T + FFT(−c/τ) by the direct sum over them, no transform
+            if not recompute:  # few cells: FFT(−c/τ) by the direct sum, no transform
                 pl.add_sparse(T, cells, vals)
         scale = target * n / total if load else 1.0
         if not (np.isfinite(scale) and scale > 0):
@@ -351,22 +372,23 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             gc = np.empty(idx.size)
         else:
             pc *= scale
-        if exact:  # p̂ from p (no drift of the incremental update)
-            p[:] = 0.0
-            p.put(idx, pc)
-            P = spectrum_of(p)
+        if recompute:  # p̂ = FFT(p): rin is zero outside the (new) contact set
+            rin.put(idx, pc)
+            forwards += 1
+            np.copyto(P, pl.forward_buffer())
             S = 1.0
             np.multiply(P, kn, out=spec)
+            since_exact = 0
         else:
-            kernels.spectrum_step(P, D, -tau / S, kn, S * scale, spec)
+            kernels.spectrum_step(P, T, -tau / S, kn, S * scale, spec)
             S *= scale
+            since_exact += 1
         u = inverse()
         pc_cur = pc
     else:
         message = f"not converged in {maxiter} iterations (error {err:.3e} > tol {tol:.1e})"
-        span = float(kn.max() / kn[kn > 0].min()) if np.any(kn > 0) else 1.0
-        if span > 1e5:  # CG's rate degrades as √span (a half-space at 2048²: 1.4e3)
-            message += (f"; the kernel spans {span:.1e} (a thin {type(op.layer).__name__}?), "
+        if op.span > SPAN_SLOW:
+            message += (f"; the kernel spans {op.span:.1e} (a thin {type(op.layer).__name__}?), "
                         "on which conjugate gradients converge slowly (docs/performance.md)")
     rin[:] = 0.0
     p[:] = 0.0

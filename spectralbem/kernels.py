@@ -20,7 +20,7 @@ the summation order, slower).  ``backend()`` tells which is in use.
 * :func:`pk_step` — the packed pressure step ``pc − τ·tc``, its negative cells (listed) and
   ``Σ max(pc, 0)``.
 * :func:`corrections` — the projection correction of a step that changes the contact set
-  (clipped and joining cells), as a list for the direct sum or written into the FFT input.
+  (clipped and joining cells), listed for the direct sum.
 * :func:`merge_set` — the new contact set: the cells with ``pc < 0`` dropped, the joining
   cells merged in (both index lists sorted), with their t, p and w, the load rescaling
   applied, the full-grid arrays (``w_out``, the FFT input) updated where cells changed.
@@ -93,14 +93,10 @@ def pk_step_numpy(pc_cur, tc, tau, clip_pos):
     return pc, int(neg.size), float(np.maximum(pc, 0.0).sum())
 
 
-def corrections_numpy(idx, clip_pos, pc, pc_cur, tau, ov, u, w, gbar, rin, dense):
-    out = idx.take(clip_pos)
+def corrections_numpy(idx, clip_pos, pc, tau, ov, u, w, gbar):
     dg = u.take(ov) - w.take(ov) - gbar  # < 0: the joining cells' overlap
     pov = -tau * dg
-    if dense:
-        rin.put(out, pc_cur.take(clip_pos) / tau)
-        rin.put(ov, dg)
-    cells = np.concatenate([out, ov])
+    cells = np.concatenate([idx.take(clip_pos), ov])
     vals = np.concatenate([pc.take(clip_pos) / tau, dg])
     return cells, vals, pov, float(pov.sum())
 
@@ -237,19 +233,15 @@ if numba is not None:
         return pc, nneg, total
 
     @_jit
-    def _corrections(idx, clip_pos, pc, pc_cur, tau, ov, u, w, gbar, rin,
-                     dense):  # pragma: no cover - compiled
+    def _corrections(idx, clip_pos, pc, tau, ov, u, w, gbar):  # pragma: no cover - compiled
         nc = clip_pos.size
         cells = np.empty(nc + ov.size, dtype=idx.dtype)
         vals = np.empty(nc + ov.size)
         pov = np.empty(ov.size)
         for j in range(nc):
             k = clip_pos[j]
-            c = idx[k]
-            cells[j] = c
+            cells[j] = idx[k]
             vals[j] = pc[k] / tau
-            if dense:
-                rin[c] = pc_cur[k] / tau
         s = 0.0
         for j in range(ov.size):
             c = ov[j]
@@ -258,8 +250,6 @@ if numba is not None:
             vals[nc + j] = dg
             pov[j] = -tau * dg
             s += pov[j]
-            if dense:
-                rin[c] = dg
         return cells, vals, pov, s
 
     @_jit
@@ -312,16 +302,13 @@ if numba is not None:
         pc, nneg, total = _pk_step(pc_cur, tc, float(tau), clip_pos)
         return pc, int(nneg), float(total)
 
-    def corrections(idx, clip_pos, pc, pc_cur, tau, ov, u, w, gbar, rin, dense):
-        """The projection correction of a PK step: the cells ``idx[clip_pos]`` that clip
-        (``pc < 0``) and the joining cells ``ov`` (overlap u − w − ḡ < 0).  Returns (cells,
-        vals, pov, Σ pov): the correction's cells and values for the direct sum
-        (pc/τ on clipped cells, u − w − ḡ on joining ones: D = T + FFT(vals)) and the joining
-        cells' pressure pov = −τ(u − w − ḡ).  With ``dense`` the same correction is written
-        into the direction ``rin`` instead (t − c/τ: pc_cur/τ on clipped cells, u − w − ḡ on
-        joining ones) for one more transform."""
-        return _corrections(idx, clip_pos, pc, pc_cur, float(tau), ov, u, w, float(gbar), rin,
-                            bool(dense))
+    def corrections(idx, clip_pos, pc, tau, ov, u, w, gbar):
+        """The projection correction c of a PK step: the cells ``idx[clip_pos]`` that clip
+        (``pc < 0``, c = −pc) and the joining cells ``ov`` (overlap u − w − ḡ < 0, c = pov).
+        Returns (cells, vals, pov, Σ pov): the cells and values of −c/τ (pc/τ on clipped
+        cells, u − w − ḡ on joining ones), for the direct sum D = T + FFT(−c/τ), and the
+        joining cells' pressure pov = −τ(u − w − ḡ)."""
+        return _corrections(idx, clip_pos, pc, float(tau), ov, u, w, float(gbar))
 
     def merge_set(idx, tc, pc, wc, ov, pov, w, scale, w_out, rin):
         """The contact set after a step: the cells of ``idx`` with ``pc < 0`` dropped (w_out

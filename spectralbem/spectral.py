@@ -21,6 +21,7 @@ Pressure → displacement on an Nx × Ny periodic grid of a cell Lx × Ly::
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -173,6 +174,14 @@ class SpectralOperator:
         if not np.all(np.isfinite(half)):
             raise FloatingPointError("the response kernel has non-finite entries")
         return np.ascontiguousarray(half)
+
+    @functools.cached_property
+    def span(self) -> float:
+        """max |Ĉ| / min |Ĉ| over the modes with Ĉ ≠ 0 (1 when there are none): conjugate
+        gradients need O(√span) iterations."""
+        a = np.abs(self.kernel)
+        nz = a[a > 0]
+        return float(nz.max() / nz.min()) if nz.size else 1.0
 
     @property
     def symmetric(self) -> bool:

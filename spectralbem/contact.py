@@ -23,6 +23,7 @@ form (physics.md §4.2).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -201,7 +202,10 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     exactly instead (as it is after ``refresh`` incremental updates).
     Real-space work is done on packed index arrays of the contact set; the full-grid passes
     are the fused loops of :mod:`spectralbem.kernels`.  Under load control the search
-    direction is kept mean-free on the contact (the mean-gap term of PK).
+    direction is kept mean-free on the contact (the mean-gap term of PK).  A full contact is
+    recognised by its exact mode-by-mode solution (:func:`_full_contact`, one transform
+    pair), tried once the contact set covers :data:`FULL_CHECK` of the cells, or before the
+    start when the kernel spans more than :data:`SPAN_SLOW`.
 
     One departure from PK (``restart="descent"``, the default): they restart the conjugate
     directions (β = 0) whenever cells join the contact (``restart="join"``); here β = G/G_old
@@ -324,7 +328,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             u, idx, wc, pc_cur, tc, load, gc, w_out, ov_buf)
         # convergence test on the current state: complementarity and no overlap
         err = e_sum / (p_sum * hrange)
-        if not np.isfinite(err):
+        if not math.isfinite(err):
             message = f"non-finite error at iteration {it}"
             break
         if err < tol and overlap_min >= -tol * hrange:
@@ -364,7 +368,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             if not recompute:  # few cells: FFT(−c/τ) by the direct sum, no transform
                 pl.add_sparse(T, cells, vals)
         scale = target * n / total if load else 1.0
-        if not (np.isfinite(scale) and scale > 0):
+        if not (math.isfinite(scale) and scale > 0):
             message = f"pressure collapsed at iteration {it}: the load cannot be carried"
             break
         if changed:  # drop the clipped cells (pc < 0), merge the joining ones in, rescale

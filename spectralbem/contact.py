@@ -341,6 +341,11 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         beta = G / G_old if G_old > 0 else 0.0
         if not G + beta * g_t > 0:
             beta = 0.0
+        # the FFT input is rewritten whole (zeros, then t on the contact set): its zeros,
+        # untouched since the last transform, would otherwise come from memory when other
+        # traffic has evicted them (512² on a busy machine: 2.12 → 1.85 pairs an iteration,
+        # paired runs; neutral at 256² and 1024²: docs/performance.md)
+        rin.fill(0.0)
         gc_tc = kernels.direction(gc, tc, beta, t_mean, rin, idx)
         G_old = G
         T = pl.forward_buffer()  # the plan's output buffer

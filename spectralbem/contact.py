@@ -185,6 +185,13 @@ SPAN_SLOW = 1e5
 #: contact fraction at which polonsky_keer checks for full contact (once)
 FULL_CHECK = 0.9
 
+#: FFT inputs of at least this size are rewritten whole every PK iteration (zeros, then t
+#: on the contact set) instead of only on the contact set: their zeros, untouched since the
+#: last transform, are then read from cache, not memory.  At 512² (2 MiB) it saves 1-2 %
+#: an iteration on a quiet machine and 13 % on a busy one (paired runs); at 256² (0.5 MiB,
+#: which the 1 MiB L2 cache keeps) it costs 2 %; at 1024² neutral (docs/performance.md)
+REFILL_BYTES = 2**20
+
 
 def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetration=None,
                   tol: float = 1e-10, maxiter: int = 10000, p0=None, refresh: int = 50,
@@ -234,6 +241,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     kn = np.ascontiguousarray(op.kernel.real / n)  # kernel with the 1/N of the inverse
     mult = np.ascontiguousarray(op.cell.rfft_weights()[0])  # Parseval column multiplicities
     k_sparse = sparse_max(n)
+    refill = 8 * n >= REFILL_BYTES  # float64 FFT input
     # full contact: the exact mode-by-mode solution, when it is admissible (p ≥ 0), is the
     # answer.  Checked before any start is built when Ĉ spans many decades (thin layers
     # under pressure, A.5: CG from a partial start can stall there), else once the contact
@@ -341,11 +349,8 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         beta = G / G_old if G_old > 0 else 0.0
         if not G + beta * g_t > 0:
             beta = 0.0
-        # the FFT input is rewritten whole (zeros, then t on the contact set): its zeros,
-        # untouched since the last transform, would otherwise come from memory when other
-        # traffic has evicted them (512² on a busy machine: 2.12 → 1.85 pairs an iteration,
-        # paired runs; neutral at 256² and 1024²: docs/performance.md)
-        rin.fill(0.0)
+        if refill:  # the FFT input rewritten whole (see REFILL_BYTES)
+            rin.fill(0.0)
         gc_tc = kernels.direction(gc, tc, beta, t_mean, rin, idx)
         G_old = G
         T = pl.forward_buffer()  # the plan's output buffer

@@ -202,11 +202,10 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     folded into the scalar S): the step length uses Parseval, ⟨C t, t⟩ = Σ_q Ĉ |t̂|²/N, so an
     iteration costs one forward FFT (of the search direction t) and one inverse FFT
     (u = C p).  When the active set changes, the projection correction c (clipped cells,
-    cells that join) enters the update p̂ ← p̂ − τ·D as D = T + FFT(−c/τ), the transform of
-    the correction by the direct sum over its cells
-    (:meth:`~spectralbem.fft.RealFFT2.add_sparse`) when at most :func:`sparse_max` cells
-    change; when more change, a transform is due either way and p̂ = FFT(p) is recomputed
-    exactly instead (as it is after ``refresh`` incremental updates).
+    cells that join) enters the update p̂ ← p̂ − τ·D as D = FFT(t − c/τ): a second forward
+    FFT, or, when at most :func:`sparse_max` cells change, T plus the direct sum over those
+    cells (:meth:`~spectralbem.fft.RealFFT2.add_sparse`, no transform); p̂ is recomputed
+    exactly every ``refresh`` iterations.
     Real-space work is done on packed index arrays of the contact set; the full-grid passes
     are the fused loops of :mod:`spectralbem.kernels`.  Under load control the search
     direction is kept mean-free on the contact (the mean-gap term of PK).  A full contact is
@@ -306,7 +305,6 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     tc = np.zeros(idx.size)
     gc = np.empty(idx.size)
     G_old = 0.0  # the first direction is the gradient (β = 0)
-    since_exact = 0  # incremental updates of p̂ since it was last computed from p
     err = np.inf
     gbar = 0.0
     message = f"not converged in {maxiter} iterations"
@@ -365,18 +363,22 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         if restart_on_join and n_ov:
             G_old = 0.0  # PK (1999): the next direction is the gradient
         changed = n_clip > 0 or n_ov > 0
-        # p̂ is recomputed from p (one forward transform, exact) when more cells change than
-        # a direct sum handles — transforming the correction would cost the same — and after
-        # ``refresh`` incremental updates (no drift); else p̂ ← p̂ − τ·D, D = T + FFT(−c/τ)
-        recompute = since_exact >= refresh or n_clip + n_ov > k_sparse
+        recompute = it % refresh == 0  # p̂ from p below: no drift of the updates
+        D = T
         if changed:
             # the projection correction c: c = −pc on clipped cells, the overlap-driven
-            # pressure pov on joining cells
+            # pressure pov on joining cells; p̂ ← p̂ − τD with D = FFT(t − c/τ)
             cells, vals, pov, pov_sum = kernels.corrections(
                 idx, clip_buf[:n_clip], pc, tau, ov, u, w, gbar)
             total += pov_sum
-            if not recompute:  # few cells: FFT(−c/τ) by the direct sum, no transform
-                pl.add_sparse(T, cells, vals)
+            if not recompute and n_clip + n_ov <= k_sparse:
+                pl.add_sparse(T, cells, vals)  # few cells: D = T + FFT(−c/τ), a direct sum
+            elif not recompute:  # a second transform (rin holds t; t − c/τ = pc_cur/τ on a
+                # clipped cell, u − w − ḡ on a joining one)
+                rin.put(cells[:n_clip], pc_cur.take(clip_buf[:n_clip]) / tau)
+                rin.put(ov, vals[n_clip:])
+                forwards += 1
+                D = pl.forward_buffer()
         scale = target * n / total if load else 1.0
         if not (math.isfinite(scale) and scale > 0):
             message = f"pressure collapsed at iteration {it}: the load cannot be carried"
@@ -392,11 +394,9 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             np.copyto(P, pl.forward_buffer())
             S = 1.0
             np.multiply(P, kn, out=spec)
-            since_exact = 0
         else:
-            kernels.spectrum_step(P, T, -tau / S, kn, S * scale, spec)
+            kernels.spectrum_step(P, D, -tau / S, kn, S * scale, spec)
             S *= scale
-            since_exact += 1
         u = inverse()
         pc_cur = pc
     else:

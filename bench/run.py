@@ -10,7 +10,9 @@ solve only (operator/model construction and FFT
 planning are reported separately as setup).  Also measured in the same run: one planned FFTW
 r2c+c2r pair just before each of our timed runs (the bound = iterations × one pair; the ratio
 is taken run by run and its median reported, so that the machine's speed drift between two
-measurements does not enter it), and the pressure error of both codes against a tight
+measurements does not enter it; 9 runs up to 512², where a run costs ≤ 0.2 s, so that a
+transient load on this shared machine does not decide the median; our time is still the
+fastest of the first ``--repeats``, as many as Tamaas gets), and the pressure error of both codes against a tight
 reference (ours at tol 1e-12) where affordable.
 
 Writes bench/results.json and the table of docs/performance.md.
@@ -97,18 +99,19 @@ def run_tamaas(cell, h, p, tol):
                 p=np.array(model.traction).reshape(h.shape))
 
 
-def timed_with_pairs(k, n, cell, h, pbar, tol):
+def timed_with_pairs(k, n, cell, h, pbar, tol, fastest_of=None):
     """k timed runs of ours, each preceded by its own one-pair timing: the ratio to the bound
     is taken run by run, so a drift of the machine's speed between the two measurements
     (seen here: the same solve at 0.28 s and 0.18 s within a minute) does not enter it.
-    Returns (the fastest run, the per-run ratios, the per-run pair times)."""
+    Returns (the fastest of the first ``fastest_of`` runs (default all: as many as Tamaas
+    gets), the per-run ratios, the per-run pair times)."""
     runs = []
     for _ in range(max(1, k)):
         pair = fft_pair_seconds(n)
         r = run_ours(cell, h, pbar, tol)
         r["pair"], r["ratio"] = pair, r["time"] / (max(r["iterations"], 1) * pair)
         runs.append(r)
-    return (min(runs, key=lambda r: r["time"]), [r["ratio"] for r in runs],
+    return (min(runs[:fastest_of], key=lambda r: r["time"]), [r["ratio"] for r in runs],
             [r["pair"] for r in runs])
 
 
@@ -124,6 +127,10 @@ def main(argv=None):
     ap.add_argument("--repeats", type=int, default=3,
                     help="timed runs per code up to 1024² (the fastest counts: this machine's "
                          "run-to-run noise is ±10 %%); one run above")
+    ap.add_argument("--ratio-runs", type=int, default=9,
+                    help="timed runs of ours (each after its own pair timing) up to 512², "
+                         "where one costs ≤ 0.2 s: the median ratio to the bound over 9 runs "
+                         "is robust to a transient load on this shared machine")
     ap.add_argument("--reference-max", type=int, default=1024,
                     help="largest size with a tol-1e-12 reference solve")
     args = ap.parse_args(argv)
@@ -141,7 +148,8 @@ def main(argv=None):
         cell, h = surface(n)
         pbar = 0.004 * 1.0 / (1 - 0.3**2)
         k = args.repeats if n <= 1024 else 1
-        ours, ratios, pairs = timed_with_pairs(k, n, cell, h, pbar, OUR_TOL)
+        ours, ratios, pairs = timed_with_pairs(max(k, args.ratio_runs) if n <= 512 else k, n,
+                                               cell, h, pbar, OUR_TOL, fastest_of=k)
         row = dict(case="elastic_rough", N=n, ours_s=ours["time"], ours_setup_s=ours["setup"],
                    iterations=ours["iterations"],
                    fft_pairs_per_iteration=ours["pairs"] / max(ours["iterations"], 1),
@@ -202,7 +210,8 @@ def write_markdown(rows):
             f"1024², Python "
             f"{platform.python_version()}, {platform.machine()} with 2 cores. "
             "ours / bound: each run against a pair timed just before it, the median over the "
-            "runs (their range in brackets); 1 pair: the median of those pair timings.")
+            "runs (9 up to 512², 3 at 1024², their range in brackets); 1 pair: the median of "
+            "those pair timings.")
     write_section("elastic_rough", f"{meta}\n\n{table}")
 
 

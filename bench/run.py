@@ -12,8 +12,8 @@ r2c+c2r pair just before each of our timed runs (the bound = iterations × one p
 is taken run by run and its median reported, so that the machine's speed drift between two
 measurements does not enter it; 9 runs up to 512², where a run costs ≤ 0.2 s, so that a
 transient load on this shared machine does not decide the median; our time is still the
-fastest of the first ``--repeats``, as many as Tamaas gets), and the pressure error of both codes against a tight
-reference (ours at tol 1e-12) where affordable.
+fastest of the first ``--repeats``, as many as Tamaas gets), and the pressure error of both
+codes against a tight reference (ours at tol 1e-12) where affordable.
 
 Writes bench/results.json and the table of docs/performance.md.
 Usage: python bench/run.py [--sizes 256 512 1024 2048] [--no-tamaas]

@@ -246,13 +246,15 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     # under pressure, A.5: CG from a partial start can stall there), else once the contact
     # set first covers FULL_CHECK of the cells (one transform pair that a partial contact
     # of smaller extent never pays)
-    full = _full_contact(op, h, mean_pressure, penetration) if op.span > SPAN_SLOW else None
-    if full is not None and np.all(full[0] >= 0):
-        u = op.apply(full[0])
-        return full[0], u, full[1], 0, True, "full contact", 2.0
     # (under penetration control a zero-mean layer has no full-contact solution at a
-    # prescribed Δ: _full_contact returns None)
-    check_full = full is None and (load or kn[0, 0] != 0)
+    # prescribed Δ: _full_contact returns None there)
+    check_full = load or kn[0, 0] != 0
+    full = None
+    if check_full and op.span > SPAN_SLOW:
+        check_full = False
+        full = _full_contact(op, h, mean_pressure, penetration)
+        if np.all(full[0] >= 0):
+            return full[0], op.apply(full[0]), full[1], 0, True, "full contact", 2.0
     if load:
         target = float(mean_pressure)
         w = (h - hmax).ravel()

@@ -122,14 +122,20 @@ def test_pk_step(n, seed, tau):
         assert total == pytest.approx(np.maximum(pc, 0).sum(), rel=1e-13, abs=1e-300)
 
 
+def _contact_and_joining(rng, n, k):
+    """A grid of m = 2(n + k) + 1 cells, a sorted contact set of n cells and k other cells
+    (sorted) that join it."""
+    m = 2 * (n + k) + 1
+    cells = rng.permutation(m)
+    return m, np.sort(cells[:n]), np.sort(cells[n:n + k])
+
+
 @settings(max_examples=40, deadline=None)
 @given(n=st.integers(0, 200), k=st.integers(0, 50), seed=st.integers(0, 2**31),
        scale=st.floats(0.5, 2))
 def test_merge_set(n, k, seed, scale):
     rng = np.random.default_rng(seed)
-    m = 2 * (n + k) + 1
-    cells = rng.permutation(m)
-    idx, ov = np.sort(cells[:n]), np.sort(cells[n:n + k])
+    m, idx, ov = _contact_and_joining(rng, n, k)
     tc, pc, pov, w = (rng.normal(size=n), rng.normal(size=n), rng.random(k),
                       rng.normal(size=m))
     keep = pc >= 0
@@ -160,9 +166,7 @@ def test_merge_set(n, k, seed, scale):
        tau=st.floats(0.01, 3))
 def test_corrections(n, k, seed, tau):
     rng = np.random.default_rng(seed)
-    m = 2 * (n + k) + 1
-    cells = rng.permutation(m)
-    idx, ov = np.sort(cells[:n]), np.sort(cells[n:n + k])
+    m, idx, ov = _contact_and_joining(rng, n, k)
     pc = rng.random(n) - tau * rng.normal(size=n)
     clip = np.flatnonzero(pc < 0)
     u, w, gbar = rng.normal(size=m), rng.normal(size=m), 0.3

@@ -65,7 +65,7 @@ def sinusoid_point(zeta: float, m: int, tol: float, criterion: str = "exact") ->
     t = time.perf_counter()
     ds = solve(scene)
     wall = time.perf_counter() - t
-    r1 = s1.solve(zeta, BETA, GAMMA, p_tilde=P_TILDE, a0_tilde=ds.attrs["a0_effective"],
+    r1 = s1.solve(zeta, BETA, GAMMA, p_tilde=P_TILDE, a0_tilde=A0,
                   adhesiveless_reference=False)
     err = {}
     for k in SIN_KEYS:

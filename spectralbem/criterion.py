@@ -110,15 +110,33 @@ class Bands:
         return gx, gy
 
 
-def layers(a0: float, hx: float, hy: float) -> int:
-    """m = max(1, round(a0/h)) layers; the band width actually used is a0_eff = m h."""
-    return max(1, int(round(a0 / min(hx, hy))))
+def band_split(a0: float, hx: float, hy: float) -> tuple:
+    """(m, θ) with a0 = (m + θ) h, h = min(hx, hy), m ≥ 1 whole layers and 0 ≤ θ < 1.
+
+    A band exactly a0 wide is tested as the interpolation of the works of m and m + 1 whole
+    layers with weights (1 − θ, θ) (:func:`front_tests`): the closing work W(a) of a band of
+    width a is smooth in a, so the interpolation is second order in h (docs/theory.md).
+    θ within 1e-9 of a whole number counts as whole (one band, one solve)."""
+    x = a0 / min(hx, hy)
+    m = int(np.floor(x + 1e-9))
+    theta = x - m
+    if theta < 1e-9:
+        theta = 0.0
+    return max(m, 1), float(theta)
+
+
+def band_weights(a0: float, hx: float, hy: float) -> list:
+    """[(layers, weight), ...] of the whole-layer bands whose interpolation is the band of
+    width a0 (one entry when a0/h is whole)."""
+    m, theta = band_split(a0, hx, hy)
+    return [(m, 1.0)] if theta == 0.0 else [(m, 1.0 - theta), (m + 1, theta)]
 
 
 def bands(mask: np.ndarray, hx: float, hy: float, a0: float) -> Bands:
-    """Bands of m = round(a0/h) layers (cell centres within m h of the front)."""
+    """Bands of ⌈a0/h⌉ whole layers (cell centres within that many h of the front): the
+    widest band :func:`band_weights` tests; narrower ones are selected by distance."""
     outer_front, inner_front = front_cells(mask)
-    a0 = layers(a0, hx, hy) * min(hx, hy)
+    a0 = band_weights(a0, hx, hy)[-1][0] * min(hx, hy)
     pad = int(np.ceil(a0 / min(hx, hy))) + 2
     tol = 1e-9 * min(hx, hy)
     # outside: distance from each outside cell to the nearest cell of A
@@ -162,20 +180,19 @@ class FrontTest:
     solves: int
     converged: bool
     message: str
+    dLP_rate: np.ndarray | None = None  # δL_P/δA of each outer front cell's band (J/m²)
 
 
-def _balance(dL, cells, owner, dg_area, F, W):  # dg_area: Δγ·a on ``cells``
+def _balance(dL, cells, owner, dg_area, F, W) -> None:  # dg_area: Δγ·a on ``cells``
     """Per owning front cell: F = Σ δL / Σ Δγ a - 1 over its band cells, W = Σ Δγ a (the
     weight of the ratio of sums along the front).  ``dL`` holds the work of the band cells
-    ``cells`` (flat indices), ``owner`` their front cells; fills F and W in place and returns
-    (owners with Δγ > 0 in their band, Σ δL per owner, the inverse map cell → owner slot)."""
+    ``cells`` (flat indices), ``owner`` their front cells; fills F and W in place."""
     owners, slot = np.unique(owner, return_inverse=True)
     num = np.bincount(slot, weights=dL, minlength=owners.size)
     den = np.bincount(slot, weights=dg_area, minlength=owners.size)
     has = den > 0
     F.ravel()[owners[has]] = num[has] / den[has] - 1.0
     W.ravel()[owners[has]] = den[has]
-    return owners, num, has, slot
 
 
 def _dg_area(dg: np.ndarray, area: float, cells: np.ndarray) -> np.ndarray:
@@ -193,31 +210,110 @@ def _front_average(b: Bands, F_close, W_close, F_open, W_open, sigma: float,
             smooth_along_front(F_open, b.inner_front, sig_in, W_open))
 
 
+def _owner_sums(values: dict, owner: np.ndarray, owners: np.ndarray, weight: float,
+                acc: dict) -> None:
+    """acc[k][slot] += weight · Σ values[k] over the band cells of each owner (``owners``:
+    the sorted front cells of the widest band, ``owner``: the owner of each cell)."""
+    slot = np.searchsorted(owners, owner)
+    for k, v in values.items():
+        acc[k] += weight * np.bincount(slot, weights=v, minlength=owners.size)
+
+
+def _weighted(parts: list) -> tuple:
+    """Σ w · (δL, δU, δL_P, area, observables) of the whole-layer bands of one test."""
+    dL = sum(w * t[0] for w, t in parts)
+    dU = sum(w * t[1] for w, t in parts)
+    dLP = sum(w * t[2] for w, t in parts)
+    ar = sum(w * t[3] for w, t in parts)
+    obs = {k: sum(w * t[4][k] for w, t in parts) for k in parts[0][1][4]}
+    return float(dL), float(dU), float(dLP), float(ar), obs
+
+
+class _Tester:
+    """The closing and opening tests of one state: the solves and per-cell works of
+    :func:`front_tests` (one instance per call)."""
+
+    def __init__(self, op, w, mask, p, u, dg, rtol, observables):
+        self.op, self.w, self.mask, self.p, self.u = op, w, mask, p, u
+        self.dg, self.rtol, self.observables = dg, rtol, observables
+        self.area = op.cell.cell_area
+        self.solves, self.ok, self.msg = 0, True, "converged"
+
+    def observe(self, q):
+        """Σ q f of each observable, and the mean pressure (key ``mean_pressure``)."""
+        out = {k: float(np.vdot(q, np.broadcast_to(f, q.shape)))
+               for k, f in self.observables.items()}
+        out["mean_pressure"] = float(q.mean())
+        return out
+
+    def solve(self, mask):
+        res = solve_masked(self.op, mask, self.w, x0=self.p, rtol=self.rtol)
+        self.solves += 1
+        self.ok &= res.converged
+        if not res.converged:
+            self.msg = res.message
+        return res.field
+
+    def close(self, D, psi):
+        """Close the band D at fixed Δ: per-cell δL_j = ½ g_j(A) t_j(A ∪ D) a (Eq. 8, t = −p)
+        and δL_P,j (adjoint weights ``psi`` on the grid, None when elastic); the layer's
+        (δL, δU, δL_P, area, observables) from Eqs. (8)-(10) with the actual fields."""
+        a, p, u, w = self.area, self.p, self.u, self.w
+        pp = self.solve(self.mask | D)
+        cells = np.flatnonzero(D)
+        ppD = pp.ravel()[cells]
+        dL = -0.5 * a * (u.ravel()[cells] - w.ravel()[cells]) * ppD
+        up = self.op.apply(pp)
+        dU = 0.5 * a * (np.vdot(pp, up) - np.vdot(p, u))
+        dLP = 0.5 * a * (np.vdot(up, p) - np.vdot(u, pp))
+        dLPj = a * ppD * psi.ravel()[cells] if psi is not None else np.zeros(cells.size)
+        layer = (float(dL.sum()), float(dU), float(dLP), float(cells.size * a),
+                 self.observe(pp))
+        return cells, dL, dLPj, layer
+
+    def open(self, R):
+        """Open the band R at fixed Δ: δL_j = ½ g_j(A ∖ R) t_j(A) a, the gap of each opened
+        cell and the layer's (δL, δU, δL_P, area, observables)."""
+        a, p, u, w = self.area, self.p, self.u, self.w
+        if (self.mask & ~R).any():
+            pr = self.solve(self.mask & ~R)
+            ur = self.op.apply(pr)
+        else:  # the band is the whole contact: opening it detaches (no stress left)
+            pr, ur = np.zeros_like(p), np.zeros_like(u)
+        cells = np.flatnonzero(R)
+        gr = ur.ravel()[cells] - w.ravel()[cells]
+        dL = -0.5 * a * gr * p.ravel()[cells]
+        dU = 0.5 * a * (np.vdot(p, u) - np.vdot(pr, ur))
+        dLP = 0.5 * a * (np.vdot(u, pr) - np.vdot(ur, p))
+        layer = (float(dL.sum()), float(dU), float(dLP), float(cells.size * a),
+                 self.observe(pr))
+        return cells, dL, gr, layer
+
+
 def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.ndarray,
                 dgamma, a0: float, *, rtol: float = 1e-10, vhat=(1.0, 0.0),
                 observables: dict | None = None, front_smoothing: float = FRONT_SMOOTHING,
                 smoothing_per_radius: float = SMOOTHING_PER_RADIUS,
                 u: np.ndarray | None = None) -> FrontTest:
-    """Closing and opening tests of every front cell (criterion.md §4.1-4.2) at fixed Δ.
+    """Closing and opening tests of every front cell at fixed Δ (Eqs. 3, 8-10 on bands).
 
-    ``w`` is the displacement prescribed in contact, ``p`` the solution on ``mask``, ``u`` its
-    displacement C p if the caller has it.
-    ``observables``: name -> field f; the sums Σ p f of each test state are recorded (in
-    ``closing``/``opening`` entries' fifth item) so that integrated quantities can be
-    interpolated to the sub-cell front.
+    The band is exactly ``a0`` wide for any a0/h ≥ 1: the works (and every integrated
+    quantity) of the whole-layer bands of :func:`band_weights` are interpolated linearly in
+    the width.  ``w`` is the displacement prescribed in contact, ``p`` the solution on
+    ``mask``, ``u`` its displacement C p if the caller has it.  ``observables``: name ->
+    field f; the sums Σ p f of each test state are recorded (in ``closing``/``opening``
+    entries' fifth item) so that integrated quantities can be interpolated to the sub-cell
+    front.
     """
-    observables = observables or {}
-
-    def observe(q):
-        return {k: float(np.vdot(q, np.broadcast_to(f, q.shape))) for k, f in observables.items()}
-
     cell = op.cell
     area = cell.cell_area
     dg = np.asarray(dgamma, dtype=float)
-
+    hmin = min(cell.hx, cell.hy)
+    widths = band_weights(a0, cell.hx, cell.hy)
     b = bands(mask, cell.hx, cell.hy, a0)
     if u is None:
         u = op.apply(p)
+    tester = _Tester(op, w, mask, p, u, dg, rtol, observables or {})
     F_close = np.full(mask.shape, np.nan)
     F_open = np.full(mask.shape, np.nan)
     g_open = np.full(mask.shape, np.nan)
@@ -225,90 +321,63 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     W_close = np.zeros(mask.shape)  # Δγ·area of each owner's band (weights along the front)
     W_open = np.zeros(mask.shape)
     G_close = np.full(mask.shape, np.nan)
+    dLP_rate = np.full(mask.shape, np.nan)
     dLP_cells = np.zeros(mask.shape)
     closing, opening = {}, {}
-    if op.viscoelastic:  # ψ kept on the outer band only (the closing layers lie in it)
-        band_cells = np.flatnonzero(b.outer_band)
-        psi_band = adjoint_weights(op, mask, p, rtol).ravel()[band_cells]
-    solves = 0
-    ok = True
-    msg = "converged"
+    psi = adjoint_weights(op, mask, p, rtol) if op.viscoelastic else None
     cols = colours(b, vhat, op.viscoelastic)
+    own, own_i = b.outer_owner.ravel(), b.inner_owner.ravel()
+    d_out, d_in = b.outer_dist.ravel(), b.inner_dist.ravel()
+    tol = 1e-9 * hmin
     for ci, col in enumerate(cols):
         col_flat = col.ravel()
-        # closing: band cells owned by outer front cells of this colour
-        own = b.outer_owner.ravel()
-        D = (own >= 0) & col_flat[np.maximum(own, 0)]
-        D = D.reshape(mask.shape)
-        if D.any() and (mask | D).all():
+        band = (own >= 0) & col_flat[np.maximum(own, 0)]
+        if band.any() and (mask.ravel() | band).all():
             # the band is the whole remaining gap: closing it is full contact, where the
             # half-space gauge leaves no solution at an arbitrary Δ; a gap narrower than the
             # band closes (the outer loop then reports full_contact)
-            force_close.ravel()[np.unique(own[D.ravel()])] = True
-        elif D.any():
-            res = solve_masked(op, mask | D, w, x0=p, rtol=rtol)
-            solves += 1
-            ok &= res.converged
-            if not res.converged:
-                msg = res.message
-            pp = res.field
-            cells = np.flatnonzero(D)
-            ppD = pp.ravel()[cells]
-            # Eq. (8) on the band: δL_j = ½ g_j(A) t_j(A ∪ D) a, with t = -p
-            dL = -0.5 * area * (u.ravel()[cells] - w.ravel()[cells]) * ppD
-            # Eqs. (9), (10) for the whole layer, with the actual fields u = C p
-            up = op.apply(pp)
-            dU = 0.5 * area * (np.vdot(pp, up) - np.vdot(p, u))
-            dLP = 0.5 * area * (np.vdot(up, p) - np.vdot(u, pp))
-            closing[ci] = (float(dL.sum()), float(dU), float(dLP), float(cells.size * area),
-                           observe(pp))
-            owners, num, has, slot = _balance(dL, cells, own[cells],
-                                              _dg_area(dg, area, cells), F_close, W_close)
-            # per-cell δL_P from the adjoint weights (criterion.md §4.6); zero when elastic
-            if op.viscoelastic:  # cells ⊂ the outer band, both sorted
-                dLPj = area * ppD * psi_band[np.searchsorted(band_cells, cells)]
-            else:
-                dLPj = np.zeros(cells.size)
-            dLP_cells.ravel()[cells] += dLPj
-            numP = np.bincount(slot, weights=dLPj, minlength=owners.size)
-            areas = area * np.bincount(slot, minlength=owners.size)
-            G_close.ravel()[owners[has]] = (num[has] - numP[has]) / areas[has]
-            del res, pp, up  # memory: one layer state at a time
-        # opening: the inner band of this colour removed
-        own_i = b.inner_owner.ravel()
-        R = (own_i >= 0) & col_flat[np.maximum(own_i, 0)]
-        R = R.reshape(mask.shape)
-        if R.any():
-            if (mask & ~R).any():
-                res = solve_masked(op, mask & ~R, w, x0=p, rtol=rtol)
-                solves += 1
-                ok &= res.converged
-                if not res.converged:
-                    msg = res.message
-                pr = res.field
-                ur = op.apply(pr)
-            else:  # the band is the whole contact: opening it detaches (no stress left)
-                pr = np.zeros_like(p)
-                ur = np.zeros_like(u)
-            cells = np.flatnonzero(R)
-            gr = ur.ravel()[cells] - w.ravel()[cells]
-            g_open.ravel()[cells] = gr
-            dL = -0.5 * area * gr * p.ravel()[cells]
-            dU = 0.5 * area * (np.vdot(p, u) - np.vdot(pr, ur))
-            dLP = 0.5 * area * (np.vdot(u, pr) - np.vdot(ur, p))
-            opening[ci] = (float(dL.sum()), float(dU), float(dLP), float(cells.size * area),
-                           observe(pr))
-            _balance(dL, cells, own_i[cells], _dg_area(dg, area, cells), F_open, W_open)
-            del pr, ur
-            res = None
+            force_close.ravel()[np.unique(own[band])] = True
+        elif band.any():
+            owners = np.unique(own[band])
+            acc = {k: np.zeros(owners.size) for k in ("dL", "dLP", "dg", "area")}
+            parts = []
+            for m, wt in widths:
+                D = (band & (d_out <= m * hmin + tol)).reshape(mask.shape)
+                cells, dL, dLPj, layer = tester.close(D, psi)
+                parts.append((wt, layer))
+                _owner_sums({"dL": dL, "dLP": dLPj, "dg": _dg_area(dg, area, cells),
+                             "area": np.full(cells.size, area)}, own[cells], owners, wt, acc)
+                dLP_cells.ravel()[cells] += wt * dLPj
+            closing[ci] = _weighted(parts)
+            has = acc["dg"] > 0
+            F_close.ravel()[owners[has]] = acc["dL"][has] / acc["dg"][has] - 1.0
+            W_close.ravel()[owners[has]] = acc["dg"][has]
+            G_close.ravel()[owners[has]] = (acc["dL"][has] - acc["dLP"][has]) / acc["area"][has]
+            dLP_rate.ravel()[owners[has]] = acc["dLP"][has] / acc["area"][has]
+        band = (own_i >= 0) & col_flat[np.maximum(own_i, 0)]
+        if band.any():
+            owners = np.unique(own_i[band])
+            acc = {k: np.zeros(owners.size) for k in ("dL", "dg")}
+            parts = []
+            for m, wt in widths:
+                R = (band & (d_in <= m * hmin + tol)).reshape(mask.shape)
+                cells, dL, gr, layer = tester.open(R)
+                parts.append((wt, layer))
+                g_open.ravel()[cells] = gr  # the widest band's gaps last
+                _owner_sums({"dL": dL, "dg": _dg_area(dg, area, cells)}, own_i[cells],
+                            owners, wt, acc)
+            opening[ci] = _weighted(parts)
+            has = acc["dg"] > 0
+            F_open.ravel()[owners[has]] = acc["dL"][has] / acc["dg"][has] - 1.0
+            W_open.ravel()[owners[has]] = acc["dg"][has]
     # ratio of sums along the front: each front cell weighs by its band's Δγ·area, so that
     # owners of unequal band patches (staircase corners) do not bias the local balance
     F_close, F_open = _front_average(b, F_close, W_close, F_open, W_open, front_smoothing,
                                      smoothing_per_radius)
     F_close[force_close] = -np.inf
-    solves += bool(op.viscoelastic)
+    solves = tester.solves + bool(op.viscoelastic)
     return FrontTest(F_close, F_open, G_close, dLP_cells, g_open, closing, opening, cols, b,
-                     solves, bool(ok), msg)
+                     solves, bool(tester.ok), tester.msg, dLP_rate)
 
 
 def _mirror(field_: np.ndarray, valid: np.ndarray, cells: np.ndarray, owners: np.ndarray,
@@ -346,7 +415,6 @@ def predictor_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np
     area = cell.cell_area
     dg = np.asarray(dgamma, dtype=float)
     b = bands(mask, cell.hx, cell.hy, a0)
-    a0 = layers(a0, cell.hx, cell.hy) * min(cell.hx, cell.hy)
     if u is None:
         u = op.apply(p)
     g = u - w

@@ -17,7 +17,7 @@ import xarray as xr
 SCALARS = {
     "mean_pressure": ("Pa", "mean (nominal) pressure, compressive positive"),
     "penetration": ("m", "penetration Δ, mean-level gauge"),
-    "area_fraction": ("1", "contact area fraction"),
+    "area_fraction": ("1", "contact area fraction (adhesive: inside the sub-cell front)"),
     "mu": ("1", "friction coefficient: force opposing v over normal force, Eq. (19) in 2D"),
     "mu_lateral": ("1", "lateral force (along z × v) over normal force"),
     "mu_profile": ("1", "friction coefficient from the rigid-profile force on the mask"),
@@ -31,6 +31,9 @@ SCALARS = {
     "solves": ("1", "masked linear solves"),
     "unresolved_patches": ("1", "contact patches smaller than a disc of radius a0 (the band "
                                 "tests cannot resolve them)"),
+    "balanced_fraction": ("1", "fraction of the resolved front balanced within front_tol"),
+    "front_residual": ("1", "largest balance residual of the front in position (cells)"),
+    "front_length": ("m", "length of the balanced front of the resolved patches"),
 }
 FIELDS = {
     "heights": ("m", "rigid profile height toward the slab"),

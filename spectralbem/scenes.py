@@ -374,6 +374,7 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
     """The seed scene on the grid: the 1D method's dimensionless names."""
     import xarray as xr
 
+    from . import front
     from .adhesive import solve_adhesive
     from .contact import friction, solve_contact
 
@@ -401,28 +402,26 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
                            smoothing_per_radius=scene.solver.get("smoothing_per_radius", 0.23),
                            criterion=scene.solver.get("criterion", "exact"))
         p, mask, delta, status = r.pressure, r.mask, r.penetration, r.status
-        a0e = r.a0_effective
+        out["p_front"] = r.mean_pressure
+        a0e = r.a0
         u = op.apply(p)
         if scene.kind == "sinusoid" and status == "partial":
             l1, l2 = _edges_y_invariant(mask, r.offset_out, cell)
             G = []
-            # integrated quantities at the sub-cell front: first-order interpolation in the
-            # edge position between the base state and its closing (s > 0) or opening (s < 0)
-            # layer state, at the same fixed Δ
-            base = {k: float(np.sum(p * f)) for k, f in obs.items()}
-            corr = dict.fromkeys(obs, 0.0)
             for ci in sorted(r.tests.closing):
-                dLc, dUc, _, Ac, oc = r.tests.closing[ci]
-                dLo, dUo, _, Ao, oo = r.tests.opening[ci]
+                _, dUc, _, Ac, _ = r.tests.closing[ci]
+                _, dUo, _, Ao, _ = r.tests.opening[ci]
                 col = r.tests.colour_map[ci]
                 s = float(np.nanmean(np.where(col & np.isfinite(r.offset_out), r.offset_out,
                                               np.nan)))
                 Gc, Go = dUc / Ac, dUo / Ao
-                G.append(Go + (Gc - Go) * (a0e + s) / a0e)  # G at the balanced edge l*
-                ref_state = oc if s >= 0 else oo
-                for k in obs:
-                    corr[k] += abs(s) / a0e * (ref_state[k] - base[k])
-            at_front = {k: base[k] + corr[k] for k in obs}
+                # G at the balanced edge: the closing (opening) band's value stands at its
+                # start x_b (x_b − a0) in the seed's definition, at its midpoint when the edge
+                # is the sharp-crack one (shift a0/2, elastic scenes)
+                G.append(Go + (Gc - Go) * (a0e + s - r.edge_shift) / a0e)
+            # integrated quantities at the sub-cell front (first order in offset/a0)
+            at_front = front.at_front(r.tests, r.offset_out,
+                                      {k: float(np.sum(p * f)) for k, f in obs.items()}, a0e)
             out["mu_bar_front"] = at_front["force"] / at_front["load"]
             out["mu_bar_lateral_front"] = at_front["lateral"] / at_front["load"]
             if len(G) == 1:
@@ -433,7 +432,7 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
             l1 = l2 = np.nan
             out.update(G1_over_dgamma=np.nan, G2_over_dgamma=np.nan)
         info = dict(outer_iterations=r.outer_iterations, solves=r.solves, message=r.message,
-                    a0_effective=a0e)
+                    balanced_fraction=r.balanced_fraction, front_residual=r.residual)
     else:
         res = solve_contact(op, h, mean_pressure=scene.p_mean,
                             penetration=scene.delta, tol=rtol,
@@ -448,7 +447,7 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
         out.update(G1_over_dgamma=np.nan, G2_over_dgamma=np.nan)
         info = dict(iterations=res.iterations, message=res.message)
     fr = friction(op, h, p, u)
-    pm = float(p.mean())
+    pm = out.pop("p_front", float(p.mean()))
     mu = out.pop("mu_bar_front", fr["mu_profile"])
     mu_lat = out.pop("mu_bar_lateral_front", fr["mu_lateral"])
     out.update(a_tilde=(l1 + l2) / 2, e_tilde=(l2 - l1) / 2, p_tilde=pm / pstar,
@@ -479,28 +478,6 @@ def _operator(scene: Scene) -> SpectralOperator:
                             threads=scene.solver["threads"])
 
 
-def _front_release(op, r, dgamma):
-    """G1, G2 (J/m²), μ_a numerator -Σ G (n·v̂) ds (N) and the G/Δγ map on the front."""
-    t = r.tests
-    b = t.bands
-    vhat = sliding_direction(op)
-    ok = b.outer_front & np.isfinite(t.G_close)
-    nx, ny = b.normal[0], b.normal[1]
-    cell = op.cell
-    # front length per cell of a 4-connected staircase with normal n (hy for n = x̂)
-    ds_ = 1.0 / np.maximum(np.abs(nx) / cell.hy + np.abs(ny) / cell.hx, 1.0 / max(cell.hx,
-                                                                                   cell.hy))
-    force = -float(np.sum(np.where(ok, t.G_close * (nx * vhat[0] + ny * vhat[1]) * ds_, 0)))
-    G = []
-    for col in t.colour_map:
-        sel = ok & col
-        G.append(float(t.G_close[sel].mean()) if sel.any() else np.nan)
-    if len(G) == 1:
-        G = G * 2
-    gmap = np.where(ok, t.G_close / np.broadcast_to(np.asarray(dgamma, float), ok.shape), np.nan)
-    return G[0], G[1], force, gmap
-
-
 def _adhesiveless_mask(op, scene: Scene):
     """Initial mask of an adhesive solve: the adhesiveless contact at the same penetration,
     or at the same load (at |load|, or a light touch at zero load)."""
@@ -523,6 +500,7 @@ def _solve_grid(scene: Scene, mask0=None):
 
     from .adhesive import solve_adhesive
     from .contact import friction, solve_contact
+    from .front import front_outputs
 
     op = _operator(scene)
     cell, h = scene.cell, scene.heights
@@ -545,16 +523,20 @@ def _solve_grid(scene: Scene, mask0=None):
         u = op.apply(p)
         msg = r.message
         sc.update(iterations=r.outer_iterations, solves=r.solves,
-                  unresolved_patches=r.unresolved_patches)
+                  unresolved_patches=r.unresolved_patches,
+                  balanced_fraction=r.balanced_fraction, front_residual=r.residual)
+        area = None
+        pm = r.mean_pressure
         if status == "partial" and r.tests is not None:
-            G1, G2, fa, gmap = _front_release(op, r, scene.dgamma)
-            W = float(p.sum()) * cell.cell_area
-            small = abs(W) <= 1e-9 * float(np.abs(p).sum()) * cell.cell_area
-            sc.update(G1=G1, G2=G2, mu_adhesive=np.nan if small else fa / W)
-            fields["G_front"] = gmap
+            fo = front_outputs(op, r, scene.dgamma)
+            area = fo["area_fraction"]
+            sc.update(G1=fo["G1"], G2=fo["G2"], mu_adhesive=fo["mu_adhesive"],
+                      front_length=fo["front_length"])
+            fields["G_front"] = fo["G_map"]
         else:
-            sc.update(G1=np.nan, G2=np.nan, mu_adhesive=np.nan)
-        diag = {"a0_effective": r.a0_effective, "method": "front-layer energy balance",
+            sc.update(G1=np.nan, G2=np.nan, mu_adhesive=np.nan, front_length=np.nan)
+        diag = {"a0": r.a0, "edge_shift": r.edge_shift,
+                "method": "front-layer energy balance, sub-cell front",
                 "history": r.history[-20:]}
     else:
         res = solve_contact(op, h, mean_pressure=scene.p_mean, penetration=scene.delta,
@@ -564,12 +546,13 @@ def _solve_grid(scene: Scene, mask0=None):
             "not_converged")
         msg = res.message
         sc.update(iterations=res.iterations)
+        area, pm = None, float(p.mean())
         diag = {"method": res.method, **res.diagnostics}
     w = h - float(h.max()) + delta
     gap = np.where(mask, 0.0, u - w)
     fr = friction(op, h, p, u)
-    sc.update(mean_pressure=float(p.mean()), penetration=float(delta),
-              area_fraction=float(mask.mean()), **fr)
+    sc.update(mean_pressure=pm, penetration=float(delta),
+              area_fraction=float(mask.mean()) if area is None else area, **fr)
     data = {k: ((), float(v), _attrs(SCALARS[k]))
             for k, v in sc.items()}
     data["status"] = ((), status, _attrs(STATUS))

@@ -43,7 +43,7 @@ def compare(zeta, p_tilde, direction_deg=0.0, ny=2):
     ds = solve(Scene.sinusoid(zeta, BETA, GAMMA, p_tilde=p_tilde, a0_tilde=A0,
                               cells_per_wavelength=n, ny=ny, direction_deg=direction_deg))
     t2 = time.perf_counter() - t
-    a0e = ds.attrs["a0_effective"]
+    a0e = A0  # the a0 asked for is the a0 used (a band of m + θ layers)
     ref = s1.solve(zeta * np.cos(np.radians(direction_deg)), BETA, GAMMA, p_tilde=p_tilde,
                    a0_tilde=a0e, adhesiveless_reference=False)
     row = {"zeta": zeta, "p_tilde": p_tilde, "N": n, "a0_eff": a0e, "time_2d": t2,
@@ -109,13 +109,13 @@ def jkr_cell(n: int, w: float = 2e-4):
 
 
 def griffith_radius(res, cell) -> float:
-    """Equivalent radius of a disc-shaped contact at the Griffith edge: the mask radius, plus
-    the mean sub-cell offset l* of the outer front, plus a0/2 (the closing strip's work is a0·G
-    at its midpoint, so G = Δγ at l* + a0/2 to second order in a0; docs/theory.md)."""
+    """Equivalent radius of a disc-shaped contact at the Griffith edge: the mask radius plus
+    the mean sub-cell offset of the outer front, which in an elastic scene already holds the
+    a0/2 of the sharp-crack edge (docs/theory.md)."""
     a = np.sqrt(res.mask.sum() * cell.cell_area / np.pi)
     s = res.offset_out[res.tests.bands.outer_front]
     s = s[np.isfinite(s)]
-    return float(a + (s.mean() if s.size else 0.0) + res.a0_effective / 2)
+    return float(a + (s.mean() if s.size else 0.0))
 
 
 def smoothing(sigma: float | None) -> dict:

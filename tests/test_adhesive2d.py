@@ -31,7 +31,7 @@ def visco_pair():
     n = 2513  # a0 = 0.01 = 4 cells; vτ = 0.1 = 40 cells
     ds = sb.solve(sb.Scene.sinusoid(0.1, BETA, GAMMA, p_tilde=0.15, a0_tilde=0.01,
                                     cells_per_wavelength=n, ny=2))
-    ref1 = s1.solve(0.1, BETA, GAMMA, p_tilde=0.15, a0_tilde=ds.attrs["a0_effective"],
+    ref1 = s1.solve(0.1, BETA, GAMMA, p_tilde=0.15, a0_tilde=0.01,
                     adhesiveless_reference=False)
     return ds, ref1
 
@@ -85,12 +85,18 @@ def test_scene_errors(kw, word):
         sb.Scene.sinusoid(0.1, BETA, GAMMA, p_tilde=0.1, **kw)
 
 
-def test_lattice_trapping_shrinks_with_h():
+def test_no_lattice_trapping_and_first_order_convergence():
     """Elastic sinusoid at fixed load, approached from a smaller (loading) and a larger
-    (unloading) contact: the gap between the branches halves (±20 %) when h halves."""
+    (unloading) contact, a0 = one cell: the sub-cell front carries the load, so both
+    approaches end at the same balanced edge (measured: 0.024 h, 0.0003 h, 0.006 h apart at
+    256, 512, 1024 cells per wavelength — each state is balanced within FRONT_TOL of its own
+    mask; the former ±0.6-cell dead band left the branches 0.3-0.6 h apart), and the
+    sharp-crack edge converges to Johnson's ã at first order in h (measured errors +0.39 %,
+    +0.19 %, +0.10 %)."""
     from spectralbem.scenes import _edges_y_invariant
 
-    gaps = []
+    errs = []
+    aJ = ref.johnson_a(0.15, GAMMA)
     for n in (256, 512, 1024):
         cell = Cell(2 * np.pi, 2 * np.pi / n * 2, n, 2)
         op = SpectralOperator(cell, Elastic(1.0, 0.0))
@@ -99,14 +105,16 @@ def test_lattice_trapping_shrinks_with_h():
         a = {}
         for name, start in (("load", x < 0.9), ("unload", x < 1.4)):
             r = solve_adhesive(op, h, np.pi * GAMMA, cell.hx, mean_pressure=0.075, mask0=start)
-            assert r.converged, r.message
+            assert r.converged and r.status == "partial", r.message
+            assert r.mean_pressure == pytest.approx(0.075, rel=1e-5)  # carried by the front
             l1, l2 = _edges_y_invariant(r.mask, r.offset_out, cell)
-            a[name] = (r.mask[:, 0].sum() * cell.hx / 2, (l1 + l2) / 2)
-        gaps.append([a["unload"][i] - a["load"][i] for i in (0, 1)])
-    gaps = np.array(gaps)
-    assert np.all(gaps > 0)  # hysteresis of the discrete problem (lattice trapping) ...
-    ratios = gaps[1:] / gaps[:-1]
-    assert np.all(np.abs(ratios - 0.5) <= 0.1)  # ... halves with h, mask and sub-cell front
+            a[name] = (l1 + l2) / 2
+        assert abs(a["unload"] - a["load"]) < 0.05 * cell.hx
+        errs.append(a["load"] / aJ - 1)
+    errs = np.array(errs)
+    assert np.all(np.abs(errs) < 5e-3)
+    ratios = errs[1:] / errs[:-1]
+    assert np.all(np.abs(ratios - 0.5) <= 0.1)  # first order in h (a0 = h)
 
 
 def test_adjoint_attribution_of_dLP():

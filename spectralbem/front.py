@@ -1,0 +1,87 @@
+"""Outputs of an adhesive state from its balanced sub-cell front.
+
+The mask of :func:`spectralbem.adhesive.solve_adhesive` holds the front to the nearest cell
+boundary; the balanced edge of each outer front cell lies ``offset_out`` beyond it (m).  The
+quantities below are integrals over that sub-cell front, on the resolved patches only
+(patches smaller than a disc of radius a0 are counted, not averaged):
+
+* the contact area: the mask's area plus Σ offset·ds over the outer front;
+* the front length Σ ds, with ds = 1/max(|n_x|/h_y, |n_y|/h_x) the length of front each
+  outer front cell stands for (a digital disc's outer front cells sum to its perimeter
+  within 0.5 % at 50-150 cells of radius);
+* the energy release rate at the balanced edge, G = Δγ − δL_P/δA (Eqs. 3, 6: there
+  δL = Δγ δA), with δL_P/δA of the closing band (Eq. 10, adjoint attribution);
+* G1 and G2: front-length averages of G over the trailing (v̂·n < 0) and leading
+  (v̂·n ≥ 0) parts; in an elastic scene one average for both;
+* μ_a = −Σ (G − Δγ)(n·v̂) ds / W for a uniform Δγ (the uniform part closes to zero around
+  every closed front, ∮ n ds = 0), −Σ G (n·v̂) ds / W for a Δγ map; W the normal force.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .contact import sliding_direction
+
+
+def front_length_weights(normal, hx: float, hy: float) -> np.ndarray:
+    """ds (m) of each outer front cell of a digital front with unit normal (nx, ny)."""
+    nx, ny = normal
+    return 1.0 / np.maximum(np.maximum(np.abs(nx) / hy, np.abs(ny) / hx), 1e-300)
+
+
+def at_front(tests, offset_out, base: dict, a0: float) -> dict:
+    """Integrated quantities of the state whose edge is the balanced sub-cell front: each
+    colour's part of the front moves by its length-weighted mean outward offset toward the
+    state with its closing band closed, and by its mean inward offset toward the state with
+    its opening band opened (both at the same Δ), to first order in offset/a0.  ``base``:
+    the mask state's values (names of the tests' observables, e.g. ``mean_pressure``)."""
+    b = tests.bands
+    ds = front_length_weights(b.normal, *b.spacing)
+    s = np.where(np.isfinite(offset_out), offset_out, 0.0)
+    out = dict(base)
+    for ci, col in enumerate(tests.colour_map):
+        sel = b.outer_front & col
+        L = float(np.sum(ds[sel]))
+        if L == 0.0:
+            continue
+        for test, part in ((tests.closing, np.maximum(s, 0.0)),
+                           (tests.opening, np.maximum(-s, 0.0))):
+            if ci in test:
+                frac = float(np.sum(part[sel] * ds[sel])) / (a0 * L)
+                for k in base:
+                    out[k] += frac * (test[ci][4][k] - base[k])
+    return out
+
+
+def front_outputs(op, r, dgamma) -> dict:
+    """The sub-cell front's outputs of the adhesive result ``r`` (see the module docstring):
+    area (m²), area_fraction, front_length (m), G1, G2 (J/m²), mu_adhesive, the G map on the
+    outer front (nan elsewhere) and the number of unresolved patches."""
+    cell = op.cell
+    t = r.tests
+    b = t.bands
+    ds = front_length_weights(b.normal, cell.hx, cell.hy)
+    s = np.nan_to_num(r.offset_out, nan=0.0, posinf=0.0, neginf=0.0)
+    ok = b.outer_front & (r.resolved if r.resolved is not None else True)
+    area = float(r.mask.sum() * cell.cell_area + np.sum(np.where(b.outer_front, s * ds, 0.0)))
+    dg = np.broadcast_to(np.asarray(dgamma, float), cell.shape)
+    G = np.where(ok & np.isfinite(t.dLP_rate), dg - t.dLP_rate, np.nan)
+    ok &= np.isfinite(G)
+    G1G2 = []
+    for col in t.colour_map:
+        sel = ok & col
+        G1G2.append(float(np.sum(G[sel] * ds[sel]) / np.sum(ds[sel])) if sel.any() else np.nan)
+    if len(G1G2) == 1:
+        G1G2 *= 2
+    vhat = sliding_direction(op)
+    nv = b.normal[0] * vhat[0] + b.normal[1] * vhat[1]
+    release = G - dg if np.ndim(dgamma) == 0 else G
+    force = -float(np.sum(np.where(ok, release * nv * ds, 0.0)))
+    W = float(r.pressure.sum()) * cell.cell_area
+    small = abs(W) <= 1e-9 * float(np.abs(r.pressure).sum()) * cell.cell_area
+    return dict(area=area, area_fraction=area / (cell.Lx * cell.Ly),
+                front_length=float(np.sum(ds[ok])), G1=G1G2[0], G2=G1G2[1],
+                mu_adhesive=np.nan if small else force / W,
+                G_map=np.where(ok, G / dg, np.nan),
+                unresolved_patches=r.unresolved_patches)

@@ -6,10 +6,13 @@ front-layer energy balance of :mod:`spectralbem.criterion`, evaluated at fixed �
 1. solve on A at the current Δ (load control: Δ is fixed exactly by the mean pressure, since
    on a fixed mask p = p_w + Δ p_1 is linear in Δ);
 2. nucleation: cells outside A where the surfaces interpenetrate (g < 0) join A (jump-in);
-3. closing and opening layer tests; a front cell moves (one layer per iteration) when the
-   interpolated balanced edge lies beyond half a cell;
-4. repeat until no cell moves.  Hysteresis is physical: the mask is carried from one call to
-   the next (``mask0``), there is no global minimisation.
+3. closing and opening band tests of width a0 give the balanced sub-cell edge of every front
+   cell (plus a0/2 in an elastic scene: the sharp-crack edge); the mask follows it to the
+   nearest cell centre, with no dead band;
+4. repeat until every resolved front cell is balanced within ``front_tol`` cells and, under
+   load control, the sub-cell front carries the load (docs/theory.md).  Hysteresis is
+   physical: the mask is carried from one call to the next (``mask0``), there is no global
+   minimisation.
 
 Leaving full contact (nucleation rule): a full contact opens only through a flaw.  When the
 mask covers the cell, a flaw — the disc of radius a0 at the peak tension of the full-contact

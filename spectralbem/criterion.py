@@ -17,8 +17,9 @@ reproduces the 1D closure Eqs. (16)-(17) with the other edge fixed.  Single-cell
 never used: they carry a mesh-independent bias (criterion.md §4.2).
 
 Closing is evaluated with the edge at the cell boundary x_b, opening with the edge at
-x_b - a0; F is interpolated linearly between them to the sub-cell front l*, and a front cell
-moves (one layer per iteration) only if l* lies beyond half a cell.
+x_b - a0; F is interpolated linearly between them to the sub-cell front l*.  The band is
+exactly a0 wide for any a0/h ≥ 1: the tests of m and m + 1 whole layers are interpolated in
+the width (:func:`band_weights`).  docs/theory.md, "The 2D criterion and the sub-cell front".
 """
 
 from __future__ import annotations

@@ -250,9 +250,9 @@ def _heights(sf: dict, g: dict, cell: Cell, base: Path, problems: list):
         if k == "paraboloid":
             return paraboloid(cell, sf["radius"])
         if k == "self_affine":
-            cut = sf["cutoff_wavelength"] or 8 * max(cell.hx, cell.hy)
             return self_affine(cell, sf["hurst"], rolloff=2 * np.pi / sf["rolloff_wavelength"],
-                               cutoff=2 * np.pi / cut, rms_height=sf["rms_height"],
+                               cutoff=2 * np.pi / sf["cutoff_wavelength"],
+                               rms_height=sf["rms_height"],
                                rms_slope=sf["rms_slope"], seed=sf["seed"])
         h, size = read_heights(base / sf["path"], variable=sf["variable"], scale=sf["scale"])
     except SurfaceError as exc:

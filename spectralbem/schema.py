@@ -164,8 +164,10 @@ KINDS = {
             "hurst": _k("number", "Hurst exponent H", "", 0, 1, True),
             "rolloff_wavelength": _k("number", "roll-off wavelength 2π/q_r", "m", 0, None,
                                      True),
-            "cutoff_wavelength": _k("number", "short cut-off wavelength 2π/q_s (default 8 "
-                                    "cells)", "m", 0, None, True, default=None),
+            "cutoff_wavelength": _k("number", "short cut-off wavelength 2π/q_s, physical (the "
+                                    "surface is the same on every grid that holds it): "
+                                    "longer than the grid's Nyquist wavelength (2 cells), "
+                                    "shorter than rolloff_wavelength", "m", 0, None, True),
             "rms_height": _k("number", "rms height (give this or rms_slope)", "m", 0, None,
                              True, default=None),
             "rms_slope": _k("number", "rms slope |∇h|", "", 0, 100, True, default=None),
@@ -420,11 +422,20 @@ def _check_physical(out, problems):
             if abs(n - round(n)) > 1e-9 or round(n) < 1:
                 problems.append(f"surface.wavelength: {sf['wavelength']!r} m must divide "
                                 f"grid.Lx = {g['Lx']!r} m a whole number of times")
-        if sf.get("kind") == "self_affine" and sf.get("rolloff_wavelength"):
-            cut = sf.get("cutoff_wavelength") or 8 * max(g["Lx"] / g["Nx"], g["Ly"] / g["Ny"])
+        cut = sf.get("cutoff_wavelength")
+        if sf.get("kind") == "self_affine" and sf.get("rolloff_wavelength") and cut:
             if cut >= sf["rolloff_wavelength"]:
                 problems.append(f"surface.cutoff_wavelength: {cut!r} m must be shorter than "
                                 f"surface.rolloff_wavelength = {sf['rolloff_wavelength']!r} m")
+            # the grid holds modes |k| ≤ (N - 1)//2 along an axis (never the Nyquist mode):
+            # the band |k| ≤ L/cut needs cut > L/((N - 1)//2 + 1), 2 cells for an even N
+            # (the same rule, and band-edge tolerance 1e-10, as surfaces.self_affine)
+            lo = max(g[f"L{a}"] / ((g[f"N{a}"] - 1) // 2 + 1) for a in "xy")
+            if cut <= lo * (1 + 1e-10):
+                problems.append(f"surface.cutoff_wavelength: {cut!r} m is too short for the "
+                                "grid (at or beyond its Nyquist wavelength, 2 cells for an "
+                                f"even N); allowed ({lo:.6g}, {sf['rolloff_wavelength']!r}) m, "
+                                "or refine the grid")
             if sf["rolloff_wavelength"] > max(g["Lx"], g["Ly"]):
                 problems.append(f"surface.rolloff_wavelength: {sf['rolloff_wavelength']!r} m "
                                 f"exceeds the cell; allowed (0, {max(g['Lx'], g['Ly'])!r}] m")

@@ -59,15 +59,34 @@ def paraboloid(cell: Cell, radius: float) -> np.ndarray:
     return -r2 / (2 * radius)
 
 
+# Relative tolerance of the band edge |q| ≤ q_s: a cut-off given as a whole number of modes
+# (q_s = 2πK/L, computed in floating point) keeps its last ring whatever the rounding.
+BAND_RTOL = 1e-10
+
+
 def self_affine(cell: Cell, hurst: float, *, rolloff: float, cutoff: float,
                 rms_height: float | None = None, rms_slope: float | None = None,
                 seed: int = 0) -> np.ndarray:
-    """Gaussian self-affine random surface with a roll-off.
+    """Gaussian self-affine random surface with a roll-off, the same physical surface on every
+    grid of the cell.
 
-    Power spectrum C(q) ∝ 1 for q0 ≤ q < q_r, ∝ (q/q_r)^{-2(1+H)} for q_r ≤ q ≤ q_s, 0 above q_s;
-    random phases from ``numpy.random.default_rng(seed)``.  ``rolloff`` and ``cutoff`` are the
-    wavevectors q_r < q_s (rad/m).  Exactly one of ``rms_height`` / ``rms_slope`` sets the scale
-    (slope = rms of |∇h| computed spectrally).
+    Wavevectors are physical, in rad/m: the cell's Fourier modes are q = 2π (kx/Lx, ky/Ly)
+    for integers (kx, ky), and ``rolloff`` q_r < ``cutoff`` q_s.  The power spectrum is
+    C(q) = 1 for 0 < q < q_r, (q/q_r)^{-2(1+H)} for q_r ≤ q ≤ q_s, and 0 above q_s and at
+    q = 0 (zero mean).  h(x) = Σ c(k) exp(i q·x) with c(k) = s √C(q) exp(iφ(k)): the phases
+    φ are uniform on [0, 2π), drawn from ``numpy.random.default_rng(seed)`` in a fixed order
+    over the box |kx| ≤ Kx, ky = 0..Ky (Kx = ⌊Lx q_s/2π⌋, Ky = ⌊Ly q_s/2π⌋), and
+    c(−k) = conj c(k) (the half-plane ky < 0, and kx < 0 on ky = 0, are mirrors), so h is
+    real.  The scale s gives the requested ``rms_height`` (Σ|c|²) or ``rms_slope`` (rms of
+    |∇h|, Σ|q|²|c|²) exactly, by Parseval over the coefficients.
+
+    Nothing depends on the grid but the sampling: for a given (cell size, hurst, rolloff,
+    cutoff, seed), every grid (Nx, Ny) holding the band gives the same coefficients c(k) and
+    samples of the same h(x, y) — a grid-refinement study refines the grid, not the surface.
+    The grid holds the band when Nx ≥ 2Kx + 1 and Ny ≥ 2Ky + 1, i.e. q_s is below the
+    Nyquist wavevector π/h along each axis (even N; π/h + π/L for odd N): the Nyquist modes
+    are never used, and the grid's rms height and slope equal the requested ones to
+    round-off.  A cut-off the grid cannot hold raises SurfaceError.
     """
     if not (0.0 < hurst < 1.0):
         raise SurfaceError(f"hurst = {hurst!r} must lie in (0, 1)")
@@ -77,24 +96,39 @@ def self_affine(cell: Cell, hurst: float, *, rolloff: float, cutoff: float,
         raise SurfaceError(f"cutoff = {cutoff!r} must exceed rolloff = {rolloff!r}")
     if (rms_height is None) == (rms_slope is None):
         raise SurfaceError("give exactly one of rms_height, rms_slope")
-    qx, qy = cell.wavevectors(half=True)
-    q = np.hypot(qx, qy)
+    reach = cutoff * (1 + BAND_RTOL) / (2 * np.pi)
+    Kx, Ky = int(np.floor(cell.Lx * reach)), int(np.floor(cell.Ly * reach))
+    if Kx == Ky == 0:
+        lo = 2 * np.pi / max(cell.Lx, cell.Ly)
+        raise SurfaceError(f"cutoff = {cutoff!r} rad/m is below the cell's lowest wavevector "
+                           f"2π/max(Lx, Ly) = {lo:.6g} rad/m: no mode lies in the band")
+    for axis, L, N, K in (("x", cell.Lx, cell.Nx, Kx), ("y", cell.Ly, cell.Ny, Ky)):
+        if 2 * K + 1 > N:
+            hi = 2 * np.pi * ((N - 1) // 2 + 1) / L  # the first |q| the grid cannot hold
+            edge = f"the Nyquist wavevector π/h{axis}" if N % 2 == 0 else f"π/h{axis} + π/L{axis}"
+            raise SurfaceError(
+                f"cutoff = {cutoff!r} rad/m needs modes up to |k{axis}| = {K}, i.e. "
+                f"N{axis} ≥ {2 * K + 1}; the grid (N{axis} = {N}) holds "
+                f"|k{axis}| ≤ {(N - 1) // 2}: "
+                f"allowed ({rolloff!r}, {hi:.10g}) rad/m, the upper end ({edge}) excluded")
+    kx = np.arange(-Kx, Kx + 1)[:, None]
+    ky = np.arange(Ky + 1)[None, :]
+    q = 2 * np.pi * np.hypot(kx / cell.Lx, ky / cell.Ly)
     psd = np.where(q < rolloff, 1.0, (np.maximum(q, rolloff) / rolloff) ** (-2 * (1 + hurst)))
-    psd = np.where((q > cutoff) | (q == 0), 0.0, psd)
-    if not np.any(psd > 0):
-        raise SurfaceError("no wavevector of the grid lies between the cell size and the cutoff")
+    psd = np.where((q > cutoff * (1 + BAND_RTOL)) | (q == 0), 0.0, psd)
     rng = np.random.default_rng(seed)
-    phase = np.exp(2j * np.pi * rng.random(psd.shape))
-    H = np.sqrt(psd) * phase
-    h = np.fft.irfft2(H, s=cell.shape)
-    h -= h.mean()
+    c = np.sqrt(psd) * np.exp(2j * np.pi * rng.random(psd.shape))
+    c[:Kx, 0] = np.conj(c[Kx + 1:, 0][::-1])  # ky = 0: c(−kx, 0) = conj c(kx, 0)
+    # Σ over the whole plane: the column ky = 0 holds both of its halves, ky > 0 counts twice
+    mult = np.where(ky == 0, 1.0, 2.0)
     if rms_height is not None:
-        scale = _finite_positive("rms_height", rms_height) / np.sqrt(np.mean(h**2))
+        scale = _finite_positive("rms_height", rms_height) / np.sqrt(np.sum(mult * abs(c)**2))
     else:
-        gx = cell.derivative(h, (1.0, 0.0))
-        gy = cell.derivative(h, (0.0, 1.0))
-        scale = _finite_positive("rms_slope", rms_slope) / np.sqrt(np.mean(gx**2 + gy**2))
-    return h * scale
+        scale = _finite_positive("rms_slope", rms_slope) / np.sqrt(
+            np.sum(mult * q**2 * abs(c)**2))
+    H = np.zeros((cell.Nx, cell.Ny // 2 + 1), dtype=complex)
+    H[kx[:, 0] % cell.Nx, : Ky + 1] = (scale * cell.Nx * cell.Ny) * c
+    return np.fft.irfft2(H, s=cell.shape)
 
 
 def check_heights(h: np.ndarray, cell: Cell, name: str = "heights") -> np.ndarray:
@@ -150,6 +184,12 @@ def read_heights(path, *, variable: str = "heights", scale: float = 1.0):
         elif suffix == ".nc":
             import xarray as xr
 
+            from .io import check_netcdf
+
+            try:  # in a child process first: a corrupted file can crash netCDF-C
+                check_netcdf(path, "height map")
+            except ValueError as exc:
+                raise SurfaceError(str(exc)) from None
             with xr.open_dataset(path) as ds:
                 if variable not in ds:
                     raise SurfaceError(f"height map {str(path)!r} has no variable "

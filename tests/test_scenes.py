@@ -220,6 +220,7 @@ REDUCED = {
     "jkr_sphere": {"grid.Nx": 128, "grid.Ny": 128, "adhesion.a0": 1.5625e-5,
                    "control.mean_pressure": [1e3, 0.0]},
     "rough_load_unload": {"grid.Nx": 64, "grid.Ny": 64, "adhesion.a0": 3.125e-5,
+                          "surface.cutoff_wavelength": 1.25e-4,
                           "control.mean_pressure": [1e4, 3e4, 1e4]},
     "sinusoid_physical": {},
 }

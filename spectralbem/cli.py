@@ -77,14 +77,19 @@ def _run(args) -> int:
 
 
 def _sweep(args) -> int:
-    from .sweep import parse_over, run_sweep
+    from .sweep import SweepInterrupted, parse_over, run_sweep
 
     out = Path(args.output)
     _check_output(out)
     over = [parse_over(o) for o in args.over]
     t = time.perf_counter()
-    path = run_sweep(args.scene, over, out, overrides=_overrides(args.set),
-                     scheduler=args.scheduler, workers=args.workers, progress=not args.quiet)
+    try:
+        path = run_sweep(args.scene, over, out, overrides=_overrides(args.set),
+                         scheduler=args.scheduler, workers=args.workers,
+                         progress=not args.quiet, dashboard=args.dashboard)
+    except SweepInterrupted as exc:  # Ctrl-C: one line, the finished points are on disk
+        print(f"spectralbem sweep: interrupted: {exc}", file=sys.stderr)
+        return 130
     print(f"sweep of {Path(args.scene).name} finished in {time.perf_counter() - t:.1f} s "
           f"-> {path}")
     return 0
@@ -97,7 +102,7 @@ def _plot(args) -> int:
     path = Path(args.dataset)
     if not path.is_file():
         raise FileNotFoundError(f"dataset {str(path)!r} does not exist")
-    ds = read_dataset(path)
+    ds = read_dataset(path, verify=True)  # a corrupted file must not crash netCDF-C here
     out = Path(args.output) if args.output else path.with_suffix(".png")
     plot_dataset(ds, out)
     print(f"wrote {out}")
@@ -148,8 +153,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_run)
     p = cmd("sweep", "sweep a scene over parameters (dask, resumable)",
             "Solve a scene over the Cartesian product of swept values on dask.distributed "
-            "(a local cluster on all cores, or --scheduler). Each finished point is kept in "
-            "OUT.parts/; rerunning the same command resumes.")
+            "(a local cluster on all cores, listening on 127.0.0.1 only, or --scheduler). "
+            "Each finished point is kept in OUT.parts/; rerunning the same command (also "
+            "after Ctrl-C, exit code 130) resumes.")
     p.add_argument("scene", help="scene file (TOML)")
     p.add_argument("--over", action="append", required=True,
                    metavar="KEY=START:STOP:NUM[:log]|KEY=V1,V2,...",
@@ -158,7 +164,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", required=True, help="netCDF output path")
     p.add_argument("--set", action="append", metavar="SECTION.KEY=VALUE",
                    help="override a scene value (repeatable)")
-    p.add_argument("--scheduler", help="address of an existing dask scheduler")
+    p.add_argument("--scheduler", help="address of an existing dask scheduler (anyone who can "
+                   "connect to it can run code in its workers: a trusted network or an SSH "
+                   "tunnel only)")
+    p.add_argument("--dashboard", action="store_true",
+                   help="serve the local cluster's dask dashboard on 127.0.0.1 (default: off)")
     p.add_argument("--workers", type=int, help="local workers (default: all cores)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_sweep)

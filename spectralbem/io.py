@@ -1,5 +1,10 @@
 """Result datasets (xarray) and atomic netCDF files.
 
+Files are written through a temporary file in the target folder (created exclusively, never
+through a symlink) and renamed, with the permissions of a plain new file (0o666 minus the
+umask); a full disk is reported as such, naming the file.  A netCDF file of unknown origin is
+opened in a child process first (:func:`check_netcdf`): a corrupted file can crash netCDF-C.
+
 Every variable carries ``units`` and ``long_name`` (the tables below, used by
 :mod:`spectralbem.scenes`); a dataset carries the package version, a UTC timestamp, the solver
 diagnostics and the scene description (JSON) as attributes.
@@ -7,6 +12,9 @@ diagnostics and the scene description (JSON) as attributes.
 
 from __future__ import annotations
 
+import errno
+import hashlib
+import json
 import os
 import tempfile
 from pathlib import Path
@@ -51,10 +59,70 @@ def attrs(entry) -> dict:
     return {"units": entry[0], "long_name": entry[1]}
 
 
-def write_dataset(ds: xr.Dataset, path) -> Path:
-    """Write netCDF4 atomically: a temporary file in the target folder, then rename."""
-    path = Path(path)
-    folder = path.parent if str(path.parent) else Path(".")
+#: a write that fails while the file system has less free space than the data plus this margin
+#: is reported as a full disk (netCDF-C reports ENOSPC as "Permission denied" or "NetCDF: HDF
+#: error")
+FULL_MARGIN = 1 << 20
+
+
+class DiskFullError(OSError):
+    """No space left on the device (or quota) while writing a file; the message names the
+    path (see :func:`disk_full`)."""
+
+    def __init__(self, message: str, err: int = errno.ENOSPC):
+        super().__init__(message)  # one argument: pickles (dask workers) as it was
+        self.errno = err
+
+
+def disk_full(path, free: int | None = None, err: int = errno.ENOSPC) -> DiskFullError:
+    where = f" ({free} bytes free)" if free is not None else ""
+    return DiskFullError(f"cannot write {str(path)!r}: {os.strerror(err).lower()}{where}", err)
+
+
+def umask() -> int:
+    """The process umask, read without changing it where the system allows (Linux)."""
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError, IndexError):
+        pass
+    old = os.umask(0o022)
+    os.umask(old)
+    return old
+
+
+def _free_bytes(folder) -> int | None:
+    """Bytes available to this user in ``folder``'s file system (None: not a disk, /proc)."""
+    try:
+        st = os.statvfs(folder)
+    except (OSError, AttributeError):
+        return None
+    return st.f_bavail * st.f_frsize if st.f_blocks > 0 else None
+
+
+def _full_disk(exc: BaseException, path: Path, need: int,
+               guess: bool = True) -> DiskFullError | None:
+    """A DiskFullError when ``exc`` (raised while writing ``need`` bytes to ``path``) comes
+    from a full file system, else None.  ``guess``: an error without ENOSPC counts when the
+    disk has no room left (netCDF-C reports ENOSPC as "Permission denied" or "NetCDF: HDF
+    error"); off for errors of plain system calls, whose errno is right."""
+    if not isinstance(exc, Exception):
+        return None
+    err = getattr(exc, "errno", None)
+    if err in (errno.ENOSPC, errno.EDQUOT):
+        return disk_full(path, _free_bytes(path.parent), err)
+    free = _free_bytes(path.parent) if guess else None
+    if free is not None and free < need + FULL_MARGIN:
+        return disk_full(path, free)
+    return None
+
+
+def _temporary(path: Path):
+    """A new temporary file next to ``path`` (O_EXCL: never an existing file or symlink),
+    with the permissions of a plain new file (0o666 & ~umask); returns (fd, name)."""
+    folder = path.parent
     if not folder.is_dir():
         raise OSError(f"output folder {str(folder)!r} does not exist")
     if not os.access(folder, os.W_OK):
@@ -62,19 +130,176 @@ def write_dataset(ds: xr.Dataset, path) -> Path:
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
     except OSError as exc:
+        full = _full_disk(exc, path, 0, guess=False)
+        if full is not None:
+            raise full from exc
         raise OSError(f"output path {str(path)!r} is not writable: {exc.strerror}") from exc
+    try:
+        os.fchmod(fd, 0o666 & ~umask())
+    except OSError:
+        pass
+    return fd, tmp
+
+
+def _discard(tmp) -> None:
+    try:
+        os.unlink(tmp)
+    except OSError:
+        pass
+
+
+def write_dataset(ds: xr.Dataset, path) -> Path:
+    """Write netCDF4 atomically: a temporary file in the target folder, then rename.  The file
+    gets the permissions of a plain new file (0o666 minus the umask); a full disk raises
+    :class:`DiskFullError` naming the path, and no temporary file is left behind."""
+    path = Path(path)
+    if not str(path.parent):
+        path = Path(".") / path
+    fd, tmp = _temporary(path)
     os.close(fd)
     try:
         ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4")
         os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+    except BaseException as exc:
+        full = _full_disk(exc, path, int(ds.nbytes))
+        _discard(tmp)
+        if full is not None:
+            raise full from exc
         raise
     return path
 
 
-def read_dataset(path) -> xr.Dataset:
-    """Read a dataset fully into memory (the file is closed on return)."""
+def write_text(path, text: str) -> Path:
+    """Write a small text file atomically (temporary file, fsync, rename), as write_dataset."""
+    path = Path(path)
+    fd, tmp = _temporary(path)
+    data = text.encode()
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException as exc:
+        full = _full_disk(exc, path, len(data), guess=False)
+        _discard(tmp)
+        if full is not None:
+            raise full from exc
+        raise
+    return path
+
+
+def sha256_file(path) -> str:
+    """Hex SHA-256 of a file's contents."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+# A netCDF file is opened in a child process first: netCDF-C/HDF5 can crash the process
+# (segmentation fault) on a corrupted file, which no exception handler catches.  The child
+# reads every variable and the global attributes of each file in turn and reports
+# "BEGIN i", then "OK i <json attributes and variable names>" or "ERR i <message>".
+_CHILD = r"""
+import json, sys
+import netCDF4
+for i, p in enumerate(sys.argv[1:]):
+    print("BEGIN", i, flush=True)
+    try:
+        with netCDF4.Dataset(p, "r") as d:
+            attrs = {}
+            for k in d.ncattrs():
+                v = d.getncattr(k)
+                if getattr(v, "size", 0) == 1 and hasattr(v, "item"):
+                    v = v.item()
+                attrs[k] = v if isinstance(v, (str, int, float)) else repr(v)
+            names = list(d.variables)
+            for v in d.variables.values():
+                v.set_auto_maskandscale(False)
+                v[...]
+        print("OK", i, json.dumps({"attrs": attrs, "variables": names}), flush=True)
+    except Exception as exc:
+        print("ERR", i, " ".join(f"{type(exc).__name__}: {exc}".split())[:300], flush=True)
+"""
+_CHECKED: dict = {}
+
+
+def _signal_name(rc: int) -> str:
+    import signal
+
+    try:
+        return signal.Signals(-rc).name
+    except ValueError:
+        return f"signal {-rc}"
+
+
+def probe_netcdf(paths, *, timeout: float | None = None) -> dict:
+    """Open each netCDF file in a child process; returns {path: (info, error)}: ``info`` is
+    ``{"attrs": {...}, "variables": [...]}`` for a readable file (else None) and ``error``
+    the reason it is not readable (else None) — a crash of the netCDF library in the child
+    (e.g. SIGSEGV on a corrupted file) names the file instead of killing the caller."""
+    import subprocess
+    import sys
+
+    paths = [str(p) for p in paths]
+    out: dict = {}
+    todo = list(paths)
+    while todo:
+        size = sum(os.path.getsize(p) for p in todo if os.path.isfile(p))
+        limit = timeout if timeout is not None else 60.0 + size / 20e6
+        try:
+            r = subprocess.run([sys.executable, "-I", "-c", _CHILD, *todo], capture_output=True,
+                               text=True, timeout=limit, stdin=subprocess.DEVNULL)
+            lines, rc, err = r.stdout.splitlines(), r.returncode, r.stderr
+        except subprocess.TimeoutExpired as exc:
+            text = exc.stdout.decode() if isinstance(exc.stdout, bytes) else exc.stdout or ""
+            lines, rc, err = text.splitlines(), None, ""
+        current = None
+        for line in lines:
+            tag, _, rest = line.partition(" ")
+            idx, _, payload = rest.partition(" ")
+            if not idx.isdigit() or int(idx) >= len(todo):
+                continue
+            p = todo[int(idx)]
+            if tag == "BEGIN":
+                current = p
+            elif tag == "OK":
+                out[p], current = (json.loads(payload), None), None
+            elif tag == "ERR":
+                out[p], current = (None, payload or "unreadable"), None
+        if current is not None:  # the child died or hung inside this file
+            out[current] = (None, f"reading it crashed the netCDF library ({_signal_name(rc)})"
+                            if rc is not None and rc < 0 else
+                            f"reading it did not finish in {limit:.0f} s" if rc is None else
+                            f"reading it stopped the reader (exit code {rc})")
+        else:  # files never begun: the child could not start
+            why = "timed out" if rc is None else ((err or "").strip().splitlines()
+                                                  or [f"exit code {rc}"])[-1]
+            for p in todo:
+                out.setdefault(p, (None, f"cannot check it in a child process: {why}"))
+        todo = [p for p in todo if p not in out]
+    return out
+
+
+def check_netcdf(path, what: str = "netCDF file") -> None:
+    """Raise ValueError naming ``path`` when it cannot be read safely (see probe_netcdf).  A
+    file already checked unchanged (same inode, size and modification time) is not reopened."""
+    path = Path(path)
+    st = path.stat()
+    key = (str(path.resolve()), st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns)
+    if key not in _CHECKED:
+        _CHECKED[key] = probe_netcdf([path])[str(path)][1]
+    err = _CHECKED[key]
+    if err is not None:
+        raise ValueError(f"{what} {str(path)!r} is not a readable netCDF file: {err}")
+
+
+def read_dataset(path, *, verify: bool = False) -> xr.Dataset:
+    """Read a dataset fully into memory (the file is closed on return).  ``verify``: open the
+    file in a child process first (:func:`check_netcdf`), for files of unknown origin."""
+    if verify:
+        check_netcdf(path, "dataset")
     with xr.open_dataset(path, engine="netcdf4") as ds:
         return ds.load()

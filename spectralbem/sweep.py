@@ -3,38 +3,80 @@
 ``run_sweep(scene, [("zeta", values), ...], "out.nc")`` solves the Cartesian product of the
 swept values (C order, the last ``--over`` varying fastest).  Every point is validated before
 any solve.  Each finished point is written atomically to ``out.nc.parts/point_NNNNN.nc`` by the
-worker that solved it; a sweep killed at any moment and started again with the same command
-skips every point whose file is complete (it is opened and checked: index and sweep digest),
-recomputes missing, truncated or corrupted ones, and assembles ``out.nc``: one Dataset with one
-dimension per swept key holding every scalar of the points (fields are not kept in sweeps).
+worker that solved it, and its SHA-256 is recorded in ``out.nc.parts/manifest.json``; the
+assembled ``out.nc`` is one Dataset with one dimension per swept key holding every scalar of
+the points, and for a load/unload path every per-step variable on a ``step`` dimension after
+the swept ones (fields are not kept in sweeps).
+
+Resuming: a sweep killed at any moment and started again with the same command keeps every
+point whose file matches its recorded checksum; a point file the driver did not get to record
+is opened in a child process first (a corrupted netCDF file can crash netCDF-C) and kept when
+it is a complete point of this sweep.  A point file that fails either check is named, moved
+aside (``point_NNNNN.nc.corrupt``) and recomputed.  The sweep's digest covers the scene, the
+overrides, the swept values, the contents of the files the scene refers to (height map,
+modulus table, Δγ map) and the package version: a parts folder of another sweep is refused,
+naming what changed.  One sweep at a time writes an output (a lock file in the parts folder);
+temporary files left by killed runs are removed on start.  Ctrl-C stops the sweep, keeps the
+finished points and says so (:class:`SweepInterrupted`).
 
 The cluster is a local one (all cores, one thread per worker process) unless a scheduler
-address is given.  A point whose worker dies is retried by dask (``retries``).  A point that
-raises is reported at the end; the finished ones stay on disk.
+address is given.  Its scheduler, workers and nannies listen on the loopback interface only,
+and its dashboard is off unless asked for (``dashboard=True``: on 127.0.0.1).  Anyone who can
+connect to a dask scheduler can run code in its workers: give ``scheduler`` only the address
+of a cluster on a trusted network (or reached through an SSH tunnel).  A point whose worker
+dies is retried by dask (``retries``).  A point that raises is reported at the end; the
+finished ones stay on disk.
 """
 
 from __future__ import annotations
 
-import hashlib
 import itertools
 import json
+import logging
 import os
+import signal
+import sys
 import tempfile
+import time
+import warnings
 from pathlib import Path
 
 import numpy as np
+from distributed.diagnostics.plugin import WorkerPlugin
 
-from .io import read_dataset, write_dataset
+from .io import (
+    DiskFullError,
+    _full_disk,
+    probe_netcdf,
+    read_dataset,
+    sha256_file,
+    write_dataset,
+    write_text,
+)
 from .scenes import apply_overrides, load_scene, read_scene_file
 from .schema import KINDS, SECTIONS, SceneError
 
-#: test hook: "INDEX:MARKER" makes the worker solving point INDEX exit abruptly once
-#: (creating MARKER), to check that dask retries the point on another worker
-CRASH_ENV = "SPECTRALBEM_CRASH_ONCE"
+try:
+    import fcntl
+except ImportError:  # pragma: no cover - not POSIX: no output lock
+    fcntl = None
+
+#: dimensions a point keeps (the path's steps); variables on any other dimension are fields
+POINT_DIMS = {"step"}
+#: the driver rewrites the manifest at most this often (s) while points finish
+MANIFEST_EVERY = 1.0
 
 
 class SweepError(RuntimeError):
     """A sweep could not complete; finished points are kept on disk."""
+
+
+class SweepInterrupted(KeyboardInterrupt):
+    """Ctrl-C during a sweep: ``kept`` of ``total`` points are on disk."""
+
+    def __init__(self, kept: int, total: int):
+        super().__init__(f"{kept}/{total} points kept; rerun the same command to resume")
+        self.kept, self.total = kept, total
 
 
 def parse_over(text: str):
@@ -65,18 +107,19 @@ def parse_over(text: str):
     return key, [float(v) for v in values]
 
 
+def _section_keys(raw: dict, sec: str) -> dict:
+    spec = SECTIONS.get(sec)
+    if spec is None and sec in KINDS:
+        kind = raw[sec].get("kind") if isinstance(raw.get(sec), dict) else None
+        spec = KINDS[sec].get(kind, {})
+    return spec or {}
+
+
 def resolve_key(raw: dict, key: str) -> str:
     """A swept key as 'section.key': a bare name is looked up in the scene's sections."""
     if "." in key:
         return key
-    hits = []
-    for sec in raw:
-        spec = SECTIONS.get(sec)
-        if spec is None and sec in KINDS:
-            kind = raw[sec].get("kind") if isinstance(raw[sec], dict) else None
-            spec = KINDS[sec].get(kind, {})
-        if spec and key in spec:
-            hits.append(f"{sec}.{key}")
+    hits = [f"{sec}.{key}" for sec in raw if key in _section_keys(raw, sec)]
     if len(hits) != 1:
         raise SceneError(f"--over {key}: " + ("not a key of this scene" if not hits else
                                                f"ambiguous ({', '.join(hits)})")
@@ -86,74 +129,409 @@ def resolve_key(raw: dict, key: str) -> str:
 
 def _units(raw: dict, dotted: str) -> str:
     sec, key = dotted.split(".", 1)
-    spec = SECTIONS.get(sec)
-    if spec is None and sec in KINDS and isinstance(raw.get(sec), dict):
-        spec = KINDS[sec].get(raw[sec].get("kind"), {})
-    k = (spec or {}).get(key)
+    k = _section_keys(raw, sec).get(key)
     return (k.units or "1") if k is not None else "1"
 
 
-def _digest(raw: dict, overs: list, overrides: dict | None) -> str:
-    blob = json.dumps({"scene": raw, "over": overs, "set": overrides or {}}, sort_keys=True,
-                      default=str)
+def input_files(raw: dict, overrides: dict | None, base) -> dict:
+    """``{"section.key": sha256 of the file}`` for every file the scene refers to."""
+    spec = apply_overrides(raw, overrides)
+    out = {}
+    for sec, body in spec.items():
+        if not isinstance(body, dict):
+            continue
+        for key, k in _section_keys(spec, sec).items():
+            value = body.get(key)
+            if k.type != "path" or not isinstance(value, str):
+                continue
+            path = Path(base) / value
+            out[f"{sec}.{key}"] = sha256_file(path) if path.is_file() else "not a regular file"
+    return out
+
+
+def _digest(raw: dict, overs: list, overrides: dict | None, inputs: dict, version: str) -> str:
+    import hashlib
+
+    blob = json.dumps({"scene": raw, "over": overs, "set": overrides or {}, "inputs": inputs,
+                       "version": version}, sort_keys=True, default=str)
     return hashlib.sha256(blob.encode()).hexdigest()[:16]
 
 
-def _part_ok(path: Path, index: int, digest: str) -> bool:
-    """A finished point file: readable, complete, and of this sweep."""
-    if not path.is_file():
-        return False
-    try:
-        ds = read_dataset(path)
-    except Exception:  # truncated / corrupted netCDF
-        return False
-    return (ds.attrs.get("sweep_digest") == digest and int(ds.attrs.get("sweep_index", -1))
-            == index and "status" in ds)
+def _say(msg: str) -> None:
+    print(f"spectralbem sweep: {msg}", file=sys.stderr, flush=True)
+
+
+def _point_variables(ds):
+    """The variables a sweep keeps of a solved point: those on no dimension or on ``step``."""
+    return ds.drop_vars([v for v in ds.variables if not set(ds[v].dims) <= POINT_DIMS])
 
 
 def _run_point(raw, base, overrides, index, digest, part):
-    """Worker task: solve one point and persist it atomically; returns the part path."""
-    crash = os.environ.get(CRASH_ENV)
-    if crash:
-        idx, marker = crash.split(":", 1)
-        if int(idx) == index and not os.path.exists(marker):
-            Path(marker).touch()
-            os._exit(17)  # simulate a worker killed mid-task
+    """Worker task: solve one point and persist it atomically; returns (part path, sha256)."""
+    import dask
+
     from .scenes import solve
 
     scene = load_scene(raw, overrides=overrides, base_dir=base)
-    ds = solve(scene)
-    ds = ds.drop_vars([v for v in ds.data_vars if ds[v].dims != ()])
-    ds = ds.drop_vars([c for c in ds.coords])
+    ds = _point_variables(solve(scene))
     ds.attrs.update(sweep_index=index, sweep_digest=digest)
-    write_dataset(ds, part)
-    return part
+    # xarray asks dask for its scheduler when it writes: inside a worker that would open a
+    # client back to the scheduler (one per worker, left unclosed when a sweep is stopped)
+    with dask.config.set(scheduler="synchronous"):
+        write_dataset(ds, part)
+    return part, sha256_file(part)
 
 
-def _client(scheduler, workers):
+class _IgnoreSigint(WorkerPlugin):
+    """Worker plugin of a local cluster: Ctrl-C in the terminal reaches the whole process
+    group; the driver handles it, a worker process (also one restarted after a crash) ignores
+    it instead of printing a traceback."""
+
+    name = "spectralbem-ignore-sigint"
+    idempotent = True
+
+    def setup(self, worker):
+        try:
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
+        except ValueError:  # not the main thread of the process
+            pass
+
+
+def _client(scheduler, workers, dashboard=False):
+    """(client, cluster or None).  A local cluster listens on 127.0.0.1 only; its dashboard
+    is off unless ``dashboard`` (then on 127.0.0.1)."""
     from dask.distributed import Client, LocalCluster
 
     if scheduler:
         return Client(scheduler), None
     n = workers or os.cpu_count() or 1
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                           dashboard_address=":0", silence_logs=40,
-                           local_directory=tempfile.gettempdir())
-    return Client(cluster), cluster
+    # worker processes inherit an ignored SIGINT (Python then installs no handler in them)
+    main = _main_thread()
+    old = signal.getsignal(signal.SIGINT) if main else None
+    if main:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        with warnings.catch_warnings():
+            # without the dashboard, the scheduler's HTTP server (health and metrics routes)
+            # takes any free loopback port; with it, port 8787 or (busy) any other: the link
+            # is printed, dask's warning about the busy port is not
+            warnings.filterwarnings("ignore", message=r"Port \d+ is already in use")
+            http = "127.0.0.1:8787" if dashboard else "127.0.0.1:0"
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                   host="127.0.0.1", dashboard_address=http,
+                                   scheduler_kwargs={"dashboard": bool(dashboard)},
+                                   silence_logs=logging.CRITICAL,
+                                   local_directory=tempfile.gettempdir())
+    finally:
+        if main:
+            signal.signal(signal.SIGINT, old)
+    try:
+        client = Client(cluster)
+        client.register_plugin(_IgnoreSigint())
+    except BaseException:
+        cluster.close()
+        raise
+    if dashboard:
+        _say(f"dashboard at {client.dashboard_link}")
+    return client, cluster
+
+
+def _main_thread() -> bool:
+    import threading
+
+    return threading.current_thread() is threading.main_thread()
+
+
+def _shutdown(client, cluster, futs) -> None:
+    """Cancel what is left and stop the cluster, quietly and without another Ctrl-C."""
+    main = _main_thread()
+    old = signal.getsignal(signal.SIGINT) if main else None
+    if main:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+    quiet = [logging.getLogger(n) for n in ("distributed", "tornado", "asyncio")]
+    levels = [lg.level for lg in quiet]
+    try:
+        for lg in quiet:
+            lg.setLevel(logging.CRITICAL + 1)
+        try:
+            if futs:
+                client.cancel(list(futs))
+        except Exception:
+            pass
+        try:
+            client.close(timeout=10)
+        except Exception:
+            pass
+        if cluster is not None:
+            try:
+                cluster.close(timeout=20)
+            except Exception:
+                pass
+    finally:
+        for lg, lv in zip(quiet, levels, strict=True):
+            lg.setLevel(lv)
+        if main:
+            signal.signal(signal.SIGINT, old)
+
+
+class _Lock:
+    """One sweep per output: an exclusive ``flock`` on ``parts/lock`` (released when the
+    process ends, whatever the way)."""
+
+    def __init__(self, path: Path, out: Path):
+        self.path, self.out, self.fd = path, out, None
+
+    def __enter__(self):
+        if fcntl is None:
+            return self
+        try:
+            fd = os.open(self.path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_CLOEXEC,
+                         0o666)
+        except OSError as exc:
+            full = _full_disk(exc, self.path, 0, guess=False)
+            if full is not None:
+                raise full from exc
+            raise SweepError(f"cannot open the lock file {str(self.path)!r}: "
+                             f"{exc.strerror}") from exc
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError as exc:
+            try:
+                pid = os.pread(fd, 32, 0).decode(errors="replace").strip()
+            except OSError:
+                pid = ""
+            os.close(fd)
+            who = f"another sweep (pid {pid})" if pid.isdigit() else "another sweep"
+            raise SweepError(f"{who} is writing {str(self.out)!r} (lock "
+                             f"{str(self.path)!r} held): wait for it to finish or choose "
+                             "another -o") from exc
+        try:
+            os.ftruncate(fd, 0)
+            os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+        except OSError:
+            pass  # the pid is only for the message of a second sweep
+        self.fd = fd
+        return self
+
+    def __exit__(self, *exc):
+        if self.fd is not None:
+            os.close(self.fd)
+            self.fd = None
+
+
+def _clean_temporaries(parts: Path, out: Path) -> int:
+    """Remove the temporary files of killed runs (the lock is held: nobody writes them)."""
+    def stale_part(name):
+        return name == "manifest.tmp" or (name.endswith(".tmp") and name.startswith(
+            (".point_", ".manifest.json.")))
+
+    def stale_out(name):
+        return name.startswith(f".{out.name}.") and name.endswith(".tmp")
+
+    n = 0
+    for folder, stale in ((parts, stale_part), (out.parent, stale_out)):
+        try:
+            names = os.listdir(folder)
+        except OSError:
+            continue
+        for name in filter(stale, names):
+            try:
+                os.unlink(folder / name)  # a symlink is removed, never followed
+                n += 1
+            except OSError:  # a directory, or gone meanwhile
+                pass
+    return n
+
+
+class _Manifest:
+    """``parts/manifest.json``: the sweep's identity and the SHA-256 of each finished point."""
+
+    def __init__(self, path: Path, head: dict, parts: dict | None = None):
+        self.path, self.head = path, head
+        self.parts = dict(parts or {})
+        self._dirty, self._saved = parts is None, 0.0
+
+    @classmethod
+    def open(cls, path: Path, head: dict) -> _Manifest:
+        try:
+            old = json.loads(path.read_text()) if path.is_file() else None
+        except (OSError, ValueError, UnicodeDecodeError):
+            old = None  # damaged: rewritten; unrecorded point files are checked one by one
+        if not isinstance(old, dict):
+            old = None
+        if old is not None and old.get("digest") != head["digest"]:
+            raise SweepError(f"{str(path.parent)!r} holds the points of a different sweep "
+                             f"({_difference(old, head)}); remove it or choose another -o")
+        m = cls(path, head, old.get("parts") if old and isinstance(old.get("parts"), dict)
+                else None)
+        m.save(force=True)
+        return m
+
+    def record(self, i: int, sha: str) -> None:
+        self.parts[str(i)] = sha
+        self._dirty = True
+
+    def forget(self, i: int) -> None:
+        if self.parts.pop(str(i), None) is not None:
+            self._dirty = True
+
+    def save(self, force: bool = False) -> None:
+        if not self._dirty or (not force and time.monotonic() - self._saved < MANIFEST_EVERY):
+            return
+        write_text(self.path, json.dumps({**self.head, "parts": self.parts}, indent=1))
+        self._dirty, self._saved = False, time.monotonic()
+
+
+def _difference(old: dict, head: dict) -> str:
+    """What differs between the sweep of an existing manifest and this one."""
+    why = []
+    if "version" in old and old["version"] != head["version"]:
+        why.append(f"spectralbem {old['version']} → {head['version']}")
+    elif "version" not in old:
+        why.append("written by an earlier spectralbem")
+    oi, ni = old.get("inputs") or {}, head["inputs"]
+    for k in sorted(set(oi) | set(ni)):
+        if oi.get(k) != ni.get(k) and "version" in old:
+            why.append(f"the contents of {k} changed" if k in oi and k in ni
+                       else f"{k} {'added' if k in ni else 'removed'}")
+    if old.get("keys") != head["keys"] or old.get("values") != head["values"]:
+        why.append("other swept keys or values")
+    if not why:
+        why.append("another scene or other --set values")
+    return f"digest {old.get('digest')} ≠ {head['digest']}: " + "; ".join(why)
+
+
+def _set_aside(path: Path, reason: str) -> None:
+    """Move an unusable point file out of the way (kept for inspection) and say so."""
+    target = path.with_name(path.name + ".corrupt")
+    k = 1
+    while target.exists() or target.is_symlink():
+        target = path.with_name(f"{path.name}.corrupt{k}")
+        k += 1
+    try:
+        os.rename(path, target)
+        where = f"moved to {target.name}"
+    except OSError:
+        path.unlink(missing_ok=True)
+        where = "removed"
+    _say(f"{path} is unusable ({reason}); {where}, the point is recomputed")
+
+
+def _check_parts(files: list, manifest: _Manifest, digest: str) -> list:
+    """Indices of the points to compute: a point file is kept when its checksum is the one
+    recorded, or (not recorded: the driver stopped first) when a child process reads it as a
+    complete point of this sweep; any other point file is moved aside."""
+    keep, unrecorded = set(), []
+    for i, f in enumerate(files):
+        present = f.exists() or f.is_symlink()
+        sha = manifest.parts.get(str(i))
+        if not present:
+            manifest.forget(i)
+        elif f.is_symlink() or not f.is_file():
+            manifest.forget(i)
+            _set_aside(f, "not a regular file")
+        elif sha is None:
+            unrecorded.append(i)
+        elif sha256_file(f) == sha:
+            keep.add(i)
+        else:
+            manifest.forget(i)
+            _set_aside(f, "its checksum differs from the one recorded when it was written")
+    if unrecorded:
+        found = probe_netcdf([files[i] for i in unrecorded])
+        for i in unrecorded:
+            info, err = found[str(files[i])]
+            if err is None:
+                attrs = info["attrs"]
+                if attrs.get("sweep_digest") != digest:
+                    err = "written by another sweep"
+                elif attrs.get("sweep_index") != i:
+                    err = f"it holds point {attrs.get('sweep_index')}, not {i}"
+                elif "status" not in info["variables"]:
+                    err = "no status variable"
+            if err is None:
+                manifest.record(i, sha256_file(files[i]))
+                keep.add(i)
+            else:
+                _set_aside(files[i], err)
+    manifest.save(force=True)
+    return [i for i in range(len(files)) if i not in keep]
+
+
+def _assemble(files, names, keys, grids, raw, digest, version):
+    """One Dataset of every point: dims (*swept, step) for a path, (*swept) otherwise."""
+    import datetime as _dt
+
+    import xarray as xr
+
+    shape = tuple(len(g) for g in grids)
+    dss = [read_dataset(f) for f in files]
+    nstep = max(ds.sizes.get("step", 0) for ds in dss)
+    path = nstep > 0
+    order, meta, strings = {}, {}, set()
+    for ds in dss:
+        for v in ds.data_vars:
+            order.setdefault(v, len(order))
+            meta.setdefault(v, dict(ds[v].attrs))
+            if ds[v].dtype.kind in "OUS":
+                strings.add(v)
+    tail = (nstep,) if path else ()
+    data = {}
+    for v in order:
+        arr = np.empty((len(dss), *tail), dtype=object if v in strings else float)
+        arr[...] = "" if v in strings else np.nan
+        for i, ds in enumerate(dss):
+            if v not in ds:
+                continue
+            vals = ds[v].values
+            if path and "step" in ds[v].dims:
+                arr[i, :vals.shape[0]] = vals
+            else:
+                arr[i] = vals.item() if vals.ndim == 0 else vals
+        data[v] = arr.reshape(shape + tail)
+    dims = tuple(names) + (("step",) if path else ())
+    # an output named like a swept key (p_tilde swept, p_tilde solved) becomes <name>_solved
+    variables = {(f"{v}_solved" if v in names else v): (dims, arr, meta[v])
+                 for v, arr in data.items()}
+    coords = {n: (n, np.asarray(g), {"units": _units(raw, k), "long_name": f"swept {k}"})
+              for n, k, g in zip(names, keys, grids, strict=True)}
+    if path:
+        ref = next(ds for ds in dss if ds.sizes.get("step", 0) == nstep)
+        coords["step"] = ("step", np.arange(nstep), dict(ref["step"].attrs) if "step" in ref
+                          else {"units": "1", "long_name": "path step"})
+        if "control_value" in ref.coords:
+            cv = np.full((len(dss), nstep), np.nan)
+            for i, ds in enumerate(dss):
+                if "control_value" in ds.coords:
+                    c = np.asarray(ds["control_value"].values, float).ravel()
+                    cv[i, :c.size] = c
+            same = np.all((cv == cv[0]) | (np.isnan(cv) & np.isnan(cv[0])))
+            coords["control_value"] = ((("step",), cv[0]) if same else
+                                       (dims, cv.reshape(shape + tail))) + (
+                dict(ref["control_value"].attrs),)
+    res = xr.Dataset(variables, coords=coords)
+    first = dss[0]
+    attrs = {k: first.attrs[k] for k in ("title", "model", "fft_backend", "fft_threads",
+                                         "conventions") if k in first.attrs}
+    attrs.update(sweep_keys=json.dumps(keys), sweep_digest=digest,
+                 scene_file=json.dumps(raw, default=str), spectralbem_version=version,
+                 created_utc=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
+    res.attrs.update({k: v for k, v in attrs.items() if isinstance(v, (str, int, float))})
+    return res
 
 
 def run_sweep(scene_file, over: list, out, *, overrides: dict | None = None,
               scheduler: str | None = None, workers: int | None = None,
-              progress: bool = True, retries: int = 2):
+              progress: bool = True, retries: int = 2, dashboard: bool = False):
     """Run (or resume) a sweep; returns the path of the assembled dataset.
 
     ``over``: list of (key, values); keys are 'section.key' or a bare name unique in the scene.
+    ``dashboard``: serve the dask dashboard of the local cluster on 127.0.0.1 (default: off).
+    Raises :class:`SweepInterrupted` on Ctrl-C (finished points are kept).
     """
-    import xarray as xr
-
     from . import __version__
 
-    out = Path(out)
+    out = Path(out).absolute()  # workers may run in another working directory
     raw = read_scene_file(scene_file)
     base = Path(scene_file).resolve().parent
     keys = [resolve_key(raw, k) for k, _ in over]
@@ -171,88 +549,100 @@ def run_sweep(scene_file, over: list, out, *, overrides: dict | None = None,
             problems += [f"point {i} ({pt}): {p}" for p in exc.problems]
     if problems:
         raise SceneError(problems)
-    folder = out.parent if str(out.parent) else Path(".")
+    folder = out.parent
     if not folder.is_dir() or not os.access(folder, os.W_OK):
         raise OSError(f"output folder {str(folder)!r} does not exist or is not writable")
-    digest = _digest(raw, [[k, v] for k, v in zip(keys, grids, strict=True)], overrides)
+    inputs = input_files(raw, overrides, base)
+    overs = [[k, v] for k, v in zip(keys, grids, strict=True)]
+    digest = _digest(raw, overs, overrides, inputs, __version__)
     parts = Path(str(out) + ".parts")
-    parts.mkdir(exist_ok=True)
-    manifest = parts / "manifest.json"
     try:
-        old = json.loads(manifest.read_text()) if manifest.exists() else None
-    except (OSError, ValueError):
-        old = None  # a damaged manifest is rewritten: the point files carry their own digest
-    if old is not None and old.get("digest") != digest:
-        raise SweepError(f"{parts} holds the points of a different sweep (digest "
-                         f"{old.get('digest')} ≠ {digest}); remove it or choose another -o")
-    if old is None:
-        tmp = manifest.with_suffix(".tmp")
-        tmp.write_text(json.dumps({"digest": digest, "keys": keys, "values": grids}))
-        os.replace(tmp, manifest)
+        parts.mkdir(exist_ok=True)
+    except OSError as exc:
+        full = _full_disk(exc, parts, 0, guess=False)
+        if full is not None:
+            raise full from exc
+        raise
     files = [parts / f"point_{i:05d}.nc" for i in range(len(points))]
-    todo = [i for i in range(len(points)) if not _part_ok(files[i], i, digest)]
-    for i in todo:  # a partial or foreign file is never trusted
-        if files[i].exists():
-            files[i].unlink()
-    failed = {}
-    if todo:
-        allpt = [{**(overrides or {}), **pt} for pt in points]
-        client, cluster = _client(scheduler, workers)
+    with _Lock(parts / "lock", out):
         try:
-            from dask.distributed import as_completed
+            _clean_temporaries(parts, out)
+            head = {"digest": digest, "keys": keys, "values": grids, "version": __version__,
+                    "inputs": inputs}
+            manifest = _Manifest.open(parts / "manifest.json", head)
+            todo = _check_parts(files, manifest, digest)
+            if todo:
+                allpt = [{**(overrides or {}), **pt} for pt in points]
+                _compute(todo, allpt, raw, base, digest, files, manifest, points, parts,
+                         scheduler, workers, progress, retries, dashboard)
+            res = _assemble(files, names, keys, grids, raw, digest, __version__)
+            return write_dataset(res, out)
+        except KeyboardInterrupt as exc:
+            if isinstance(exc, SweepInterrupted):
+                raise
+            kept = sum(f.is_file() for f in files)
+            raise SweepInterrupted(kept, len(points)) from None
 
-            futs = {client.submit(_run_point, raw, str(base), allpt[i], i, digest,
-                                  str(files[i]), key=f"sweep-{digest}-{i}", pure=False,
-                                  retries=retries): i for i in todo}
-            bar = None
-            if progress:
-                from tqdm import tqdm
 
-                bar = tqdm(total=len(points), initial=len(points) - len(todo), unit="point",
-                           desc="sweep")
-            for fut in as_completed(futs):
-                i = futs[fut]
+def _compute(todo, allpt, raw, base, digest, files, manifest, points, parts, scheduler,
+             workers, progress, retries, dashboard):
+    """Solve the points ``todo`` on the cluster, recording each finished one."""
+    failed = {}
+    client, cluster = _client(scheduler, workers, dashboard)
+    futs, bar = {}, None
+    try:
+        from dask.distributed import as_completed
+
+        futs = {client.submit(_run_point, raw, str(base), allpt[i], i, digest,
+                              str(files[i]), key=f"sweep-{digest}-{i}", pure=False,
+                              retries=retries): i for i in todo}
+        if progress:
+            from tqdm import tqdm
+
+            bar = tqdm(total=len(points), initial=len(points) - len(todo), unit="point",
+                       desc="sweep")
+        for fut in as_completed(futs):
+            i = futs[fut]
+            try:
+                _, sha = fut.result()
+            except DiskFullError as exc:
+                failed[i] = str(exc)
+            except Exception as exc:  # keep going: the other points still finish
+                failed[i] = f"{type(exc).__name__}: {exc}"
+            else:
+                manifest.record(i, sha)
                 try:
-                    fut.result()
-                except Exception as exc:  # keep going: the other points still finish
-                    failed[i] = f"{type(exc).__name__}: {exc}"
-                if bar is not None:
-                    bar.update(1)
+                    manifest.save()
+                except OSError:  # tried again at the end; unrecorded points are checked
+                    pass
             if bar is not None:
-                bar.close()
-        finally:
-            client.close()
-            if cluster is not None:
-                cluster.close()
+                bar.update(1)
+    except KeyboardInterrupt:
+        if bar is not None:
+            bar.close()
+            bar = None
+        _shutdown(client, cluster, futs)
+        client = None
+        try:
+            manifest.save(force=True)
+        except (OSError, KeyboardInterrupt):
+            pass
+        kept = sum(f.is_file() for f in files)
+        raise SweepInterrupted(kept, len(points)) from None
+    finally:
+        if bar is not None:
+            bar.close()
+        if client is not None:
+            _shutdown(client, cluster, ())
+    try:
+        manifest.save(force=True)
+    except OSError as exc:
+        if not failed:
+            raise
+        failed[-1] = f"the manifest was not updated: {exc}"
     if failed:
-        lines = [f"point {i} ({points[i]}): {m}" for i, m in sorted(failed.items())]
-        raise SweepError(f"{len(failed)} of {len(points)} points failed (the others are kept in "
+        lines = [f"point {i} ({points[i]}): {m}" if i >= 0 else m
+                 for i, m in sorted(failed.items())]
+        n = sum(i >= 0 for i in failed)
+        raise SweepError(f"{n} of {len(points)} points failed (the others are kept in "
                          f"{parts}; rerun the same command to retry):\n  " + "\n  ".join(lines))
-    # assemble
-    shape = tuple(len(g) for g in grids)
-    first = read_dataset(files[0])
-    data = {}
-    for v in first.data_vars:
-        dtype = object if first[v].dtype.kind in "OUS" else float
-        data[v] = np.empty(len(points), dtype=dtype)
-    attrs = {k: first.attrs[k] for k in ("title", "model", "fft_backend", "fft_threads",
-                                         "conventions") if k in first.attrs}
-    for i, f in enumerate(files):
-        ds = first if i == 0 else read_dataset(f)
-        for v in data:
-            data[v][i] = ds[v].item() if v in ds else (np.nan if data[v].dtype == float else "")
-    dims = tuple(names)
-    # an output named like a swept key (p_tilde swept, p_tilde solved) becomes <name>_solved
-    variables = {(f"{v}_solved" if v in names else v): (dims, arr.reshape(shape),
-                                                        dict(first[v].attrs))
-                 for v, arr in data.items()}
-    coords = {n: (n, np.asarray(g), {"units": _units(raw, k), "long_name": f"swept {k}"})
-              for n, k, g in zip(names, keys, grids, strict=True)}
-    res = xr.Dataset(variables, coords=coords)
-    import datetime as _dt
-
-    attrs.update(sweep_keys=json.dumps(keys), sweep_digest=digest,
-                 scene_file=json.dumps(raw, default=str), spectralbem_version=__version__,
-                 created_utc=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
-    res.attrs.update({k: v for k, v in attrs.items() if isinstance(v, (str, int, float))})
-    return write_dataset(res, out)

@@ -13,10 +13,11 @@ import pytest
 import xarray as xr
 
 import spectralbem as sb
+from spectralbem import sweep
 from spectralbem.io import read_dataset
 from spectralbem.scenes import load_scene
 from spectralbem.schema import SceneError
-from spectralbem.sweep import CRASH_ENV, parse_over, resolve_key, run_sweep
+from spectralbem.sweep import parse_over, resolve_key, run_sweep
 
 CASE = Path(__file__).resolve().parent.parent / "cases" / "seed_sinusoid_1d.toml"
 ZETAS = [float(z) for z in np.geomspace(0.1, 10.0, 6)]
@@ -88,16 +89,33 @@ def test_killed_sweep_resumes_without_recomputing(tmp_path, ref6):
     assert_matches(read_dataset(out), ref6)
 
 
+def crash_once(index, marker):
+    """A sweep task that kills its worker process (as a worker killed mid-task) the first time
+    it meets point ``index``, then solves as usual.  It is sent to the worker processes by
+    value; there, ``sweep._run_point`` is the package's own."""
+    def run(raw, base, overrides, i, digest, part):
+        import os
+        from pathlib import Path
+
+        from spectralbem import sweep as s
+
+        if i == index and not Path(marker).exists():
+            Path(marker).touch()
+            os._exit(17)
+        return s._run_point(raw, base, overrides, i, digest, part)
+    return run
+
+
 def test_worker_crash_retried_and_truncated_file_recomputed(tmp_path, monkeypatch, ref6):
     out = tmp_path / "c.nc"
     marker = tmp_path / "crashed"
-    monkeypatch.setenv(CRASH_ENV, f"1:{marker}")
     over = [("zeta", ZETAS[:3])]
-    run_sweep(CASE, over, out, workers=2, progress=False)
+    with monkeypatch.context() as m:
+        m.setattr(sweep, "_run_point", crash_once(1, str(marker)))
+        run_sweep(CASE, over, out, workers=2, progress=False)
     assert marker.exists()  # the worker solving point 1 died once; dask retried the point
     ds = read_dataset(out)
     assert_matches(ds, ref6[:3])
-    monkeypatch.delenv(CRASH_ENV)
     # truncate a finished point file and the final file: resume detects and recomputes
     parts = Path(str(out) + ".parts")
     p1 = parts / "point_00001.nc"
@@ -124,7 +142,8 @@ def test_sweep_on_an_existing_scheduler(tmp_path, ref6):
     from dask.distributed import LocalCluster
 
     with LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
-                      dashboard_address=":0") as cluster:
+                      dashboard_address="127.0.0.1:0",
+                      worker_dashboard_address="127.0.0.1:0") as cluster:
         out = run_sweep(CASE, [("zeta", ZETAS[4:])], tmp_path / "e.nc",
                         scheduler=cluster.scheduler_address, progress=False)
         assert len(cluster.scheduler.workers) == 1  # still up

@@ -51,7 +51,7 @@ FIELDS = {
     "contact": ("1", "contact mask (1 in contact)"),
     "G_front": ("1", "local conservative energy release rate G/Δγ on outer front cells"),
 }
-STATUS = ("1", "partial | full_contact | detached | not_converged")
+STATUS = ("1", "partial | full_contact | detached | unstable | not_converged")
 
 
 def attrs(entry) -> dict:

@@ -477,6 +477,14 @@ class Sinusoid1D:
                 need = np.clip(0.5 * self.lam / self.kernel.scale, 2048, 16384)
                 quad = int(sfft.next_fast_len(int(np.ceil(need)), real=True))
         self.Q = int(quad)
+        # the largest default mesh resolves the relaxation length ℓ down to λ/16384 (ζ ≈ 7e-4
+        # in the seed's units): below, states converge slowly and less accurately, or not
+        r = self.lam / self.kernel.scale if self.kernel.visco else 0.0
+        self.underresolved = (
+            f"the relaxation length ℓ = λ/{r:.3g} is below what the 1D mesh resolves (512 "
+            "modes and 16384 kernel nodes at most: ℓ ≥ λ/16384, ζ ≳ 7e-4 for the seed's "
+            "SLS); ζ = 0 is the elastic E0 limit it approaches where vτ ≪ a0"
+            if r > 16384 else "")
         self.strip_nodes = strip_nodes
         self._shapes: dict[float, _Shape] = {}  # see :meth:`shape`
         self.Estar_tip = self.kernel.E_tip / (1 - material.nu**2)
@@ -566,12 +574,18 @@ class Sinusoid1D:
                                 np.sum(ws * g1 * p1)])
         return K, work, np.array([np.sum(ws * g0), np.sum(ws * g1)])
 
-    def edge_residual(self, law, delta: float) -> float:
+    def edge_residual(self, law, delta: float, a: float) -> float:
         """The edge residual of :meth:`_residual` (√(G/Δγ) - 1, or the scaled SIF without
-        adhesion) from an :meth:`edge_law` at penetration Δ."""
+        adhesion) from an :meth:`edge_law` of a domain of half-width a at penetration Δ.
+
+        Without adhesion the SIF is scaled by that of Westergaard's pressure on the same
+        half-width, 2p*·sin(ka/2)·√(πa) (its peak pressure times √(πa)): the residual is then
+        a relative edge position at any load (an absolute scale stopped the search with ẽ
+        off by 1.5e-4 of ã at p̃ = 1e-9, ã = 2e-5, ζ = 0.1; now 1e-11)."""
         K, work, gap = law
         if self.dgamma == 0.0:
-            return float((K[0] + K[1] * delta) / (self.p_star() * np.sqrt(self.lam)))
+            scale = 2.0 * self.p_star() * np.sin(0.5 * self.k * a) * np.sqrt(np.pi * a)
+            return float((K[0] + K[1] * delta) / scale)
         if work is None:
             k = K[0] + K[1] * delta
             g = k * abs(k) / (2 * self.Estar_tip)
@@ -692,7 +706,7 @@ class Sinusoid1D:
         dom, cw, c1 = pair
         delta = (value if control == "delta"
                  else (value * self.lam / (dom.a * np.pi) - cw[0]) / c1[0])
-        return np.array([self.edge_residual(self.edge_law(pair, side), delta)
+        return np.array([self.edge_residual(self.edge_law(pair, side), delta, a)
                          for side in (1, 2)])
 
     def p_star(self):
@@ -737,6 +751,15 @@ class Sinusoid1D:
             x, f, message = done.x, done.fun, f"both edge residuals below {fatol:g}"
         a, c = x
         ok = bool(np.all(np.abs(f) < ftol))
+        if not ok:  # MINPACK's "The solution converged." is about its step size only
+            why = " ".join(str(message).split())
+            why = "its step-size test was met" if why == "The solution converged." else why
+            message = (f"not converged: edge residuals up to {np.max(np.abs(f)):.1e}, above "
+                       f"the tolerance {ftol:g} (root finder: {why})")
+        if not (a > 0 and 2 * a < 0.999 * self.lam):  # left the admissible half-widths
+            message = (f"not converged: the root finder left the admissible half-widths "
+                       f"(ka = {self.k * a:.3g})")
+            a, c = 0.5 * (l1 + l2), 0.5 * (l2 - l1)
         st = self.state_of(self.pair_at(a, c), **{control: value})
         if self.dgamma and self.a0:
             self.release_rates(st)
@@ -880,6 +903,12 @@ def dimensionless_problem(zeta: float, beta: float, Gamma: float, a0_tilde: floa
                       a0=a0_tilde, modes=modes, quad=quad, strip_nodes=strip_nodes, E_ref=1.0)
 
 
+#: the smallest positive advance width ã0 = k a0 the strip quadrature resolves: below it the
+#: edge residual's rounding floor (g₋ ~ K√a0 from u - w of order Λ) nears the tolerance 1e-8
+#: (measured at p̃ = 0.15: 1e-10 at ã0 = 1e-6, 1e-9 at 3e-7, 3e-8 at 1e-7, not converged)
+A0_MIN = 1e-6
+
+
 def _check_inputs(**kw):
     rng = {"zeta": (0.0, np.inf, True), "beta": (1.0, 1e8, False), "Gamma": (0.0, 10.0, False),
            "a0_tilde": (0.0, 1.0, False)}
@@ -889,86 +918,337 @@ def _check_inputs(**kw):
         if np.isnan(v) or v < lo or (v > hi and not (inf_ok and np.isinf(v))):
             raise ValueError(f"{name} = {value!r} is outside the allowed range [{lo}, {hi}]"
                              + (" or inf" if inf_ok else ""))
+        if name == "a0_tilde" and 0.0 < v < A0_MIN:
+            raise ValueError(f"a0_tilde = {value!r} is outside the allowed range: 0 (the strict "
+                             f"limit) or [{A0_MIN:g}, {hi}]; a smaller advance width is not "
+                             "resolved by the strip quadrature in double precision")
 
 
-def _status(pr: Sinusoid1D, st: State) -> str:
-    """'partial', or why no partial equilibrium was found.
+# ---------------------------------------------------------------------------------------------
+# verified statuses: a status names a state that was checked, or says why there is none
 
-    The residuals are √(δL_i/(a0Δγ)) - 1 (or K_i-based): negative means closing the strip at
-    edge i releases less than Δγ·a0, so the edge advances.  When the best attempt leaves an
-    edge that still wants to advance with the contact spanning most of the period, the
-    contact snaps into full contact; when an edge still wants to recede from a small contact,
-    it detaches.
+#: every status of a 1D state (the long name of the ``status`` variable lists the same)
+STATUSES = ("partial", "full_contact", "detached", "unstable", "not_converged")
+
+#: the half-widths ã at which the branch is traced to settle a status (:func:`_branch_verdict`)
+VERDICT_GRID = np.concatenate([np.geomspace(0.01, 0.5, 7, endpoint=False),
+                               np.linspace(0.5, 3.0, 9)])
+
+
+@dataclass
+class Verdict:
+    """A checked outcome: the status, why it holds (or why no state is reported), the
+    equilibrium for ``partial`` and ``unstable``, and its largest edge residual."""
+
+    status: str
+    reason: str
+    state: State | None = None
+    residual: float = np.nan
+    delta: float = 0.0  # detached under load control: Δ̃ at the pull-off it detached from
+
+
+class _Branch:
+    """The equilibrium branch p̃(ã), Δ̃(ã) of a dimensionless problem, point by point
+    (:func:`branch_point`), each point started from the nearest one solved."""
+
+    def __init__(self, pr: Sinusoid1D):
+        self.pr = pr
+        self.solved = {}  # ã -> (e, Δ)
+
+    def state(self, a: float) -> State:
+        guess = (self.solved[min(self.solved, key=lambda b: abs(b - a))] if self.solved
+                 else (0.0, None))
+        st = branch_point(self.pr, a, guess)
+        if not st.info["converged"] and guess != (0.0, None):
+            st = branch_point(self.pr, a, (0.0, None))
+        if st.info["converged"]:
+            self.solved[a] = ((st.l2 - st.l1) / 2, st.delta)
+        return st
+
+    def at(self, a: float):
+        """(p̃, Δ̃) of the branch point at ã (nan, nan where none is found)."""
+        st = self.state(a)
+        if not st.info["converged"]:
+            return np.nan, np.nan
+        return st.p_mean / self.pr.p_star(), st.delta / self.pr.amp
+
+    def trace(self, a_grid):
+        """The branch on ``a_grid``: (ã, p̃, Δ̃) where a point was found.
+
+        The branch solver can lose the branch between two coarse grid points near the
+        snap-in (measured: ζ = 0.1, ã0 = 1e-3, lost after ã = 1.93, found again up to 2.25
+        in steps of 0.05): where the load maximum is the last point found and a failed point
+        follows, the gap is traced again in smaller steps (warm starts)."""
+        a_grid = np.asarray(a_grid, dtype=float)
+        vals = np.array([self.at(a) for a in a_grid]).reshape(-1, 2)
+        for _ in range(3):
+            ok = np.isfinite(vals[:, 0])
+            last = np.flatnonzero(ok)
+            if last.size == 0 or int(np.argmax(vals[ok, 0])) != last.size - 1 \
+                    or last[-1] == a_grid.size - 1:
+                break
+            fill = np.linspace(a_grid[last[-1]], a_grid[last[-1] + 1], 6)[1:-1]
+            a_grid = np.insert(a_grid, last[-1] + 1, fill)
+            vals = np.insert(vals, last[-1] + 1, [self.at(a) for a in fill], axis=0)
+        ok = np.isfinite(vals[:, 0])
+        return a_grid[ok], vals[ok, 0], vals[ok, 1]
+
+    def refine(self, col: int, sign: float, lo: float, hi: float, xatol: float = 1e-5):
+        """(ã, value) of the extremum of column ``col`` (0: p̃, 1: Δ̃) in [lo, hi] by a
+        bounded scalar search (sign -1: the maximum); the value at an extremum is flat in ã:
+        xatol 1e-5 leaves ~1e-10 in the value (1e-4: ~1e-8)."""
+        from scipy.optimize import minimize_scalar
+
+        def f(a):
+            v = self.at(a)[col]
+            return sign * v if np.isfinite(v) else np.inf
+
+        with warnings.catch_warnings():  # a point not found is +inf: the parabola step warns
+            warnings.simplefilter("ignore", RuntimeWarning)
+            r = minimize_scalar(f, bounds=(lo, hi), method="bounded", options={"xatol": xatol})
+        return r.x, sign * r.fun
+
+
+def _edge_outlook(pr: Sinusoid1D, law) -> str:
+    """What an edge does at every admissible penetration (an open gap before closure) when
+    its a0 balance has no admissible root: 'advance' (δL < a0Δγ: closing the strip pays) or
+    'recede'; 'balance' when a root exists (or a0 = 0, where K is linear in Δ)."""
+    K, work, gap = law
+    if work is None or np.isfinite(pr.edge_balance_delta(law)) or gap[1] == 0:
+        return "balance"
+    # no root with an open gap: δL - a0Δγ keeps one sign there; tested just inside
+    d = -gap[0] / gap[1] - np.sign(gap[1]) * 1e-2 * pr.amp
+    q = work[0] + work[1] * d + work[2] * d * d - pr.a0 * pr.dgamma
+    return "advance" if q < 0 else "recede"
+
+
+def _edge_census(pr: Sinusoid1D, a_grid, n_centres: int = 7) -> str:
+    """Why no equilibrium branch was found, from sampled contacts (half-widths ``a_grid``,
+    centres across [-a, a]): how many have an edge that advances, or one that recedes, at
+    every admissible penetration (:func:`_edge_outlook`; a0 > 0 with adhesion only)."""
+    if pr.a0 == 0.0 or pr.dgamma == 0.0:
+        return ""
+    n = adv = rec = 0
+    for a in a_grid:
+        span = min(a, 0.49 * pr.lam - a)
+        for c in np.linspace(-span, span, n_centres):
+            pair = pr.pair_at(a, c)
+            out = {_edge_outlook(pr, pr.edge_law(pair, side)) for side in (1, 2)}
+            n, adv, rec = n + 1, adv + ("advance" in out), rec + ("recede" in out)
+    if rec == n:
+        return (f"; at every sampled contact ({n}) an edge releases more than Δγ·a0 at every "
+                "admissible penetration: the adhesion is below what the advance width a0 "
+                "resolves (a0_tilde = 0, the strict limit, or Gamma = 0 have states)")
+    if adv > n // 2:
+        return (f"; at {adv} of {n} sampled contacts an edge releases less than Δγ·a0 at "
+                "every penetration and advances (strong adhesion: the contact may close "
+                "into full contact, not verified)")
+    return ""
+
+
+def _slope(pr: Sinusoid1D, st: State, control: str) -> float:
+    """:func:`branch_slope`, on the other side where the forward neighbour is not found."""
+    s = branch_slope(pr, st, control)
+    return s if np.isfinite(s) else branch_slope(pr, st, control, step=-1e-4)
+
+
+def _verdict(pr: Sinusoid1D, control: str, value: float, ratio: complex, guess=None, *,
+             stability: bool = True) -> Verdict:
+    """The verified state at mean pressure p∞ (``control`` 'p_mean') or penetration Δ
+    ('delta') of a dimensionless problem (:func:`dimensionless_problem`).
+
+    ``partial``: both edge residuals below the tolerance, no interpenetration outside the
+    contact, and (``stability``) on the rising branch, dp̃/dã > 0 under load control or
+    dΔ̃/dã > 0 under displacement control (:func:`branch_slope`).  ``full_contact``: without
+    adhesion p̃ ≥ |E(kv)|/E0, where the closed-form full-contact pressure is ≥ 0 everywhere;
+    with adhesion a load above the largest load of the equilibrium branch (the snap-in of
+    the seed's Fig. 13).  ``detached``: no
+    compressive load and no stable contact — without adhesion p̃ ≤ 0 or Δ̃ ≤ 0, with adhesion
+    a tensile load below the pull-off load of the branch (or Δ̃ below its fixed-grip pull-off).
+    ``unstable``: the only equilibrium found lies on the falling branch and the branch does
+    not settle the outcome.  ``not_converged`` otherwise.  Loads follow the branch from first
+    contact (ã → 0): a full contact formed before would hold any tension (JKR, no flaw).
     """
-    if st.info.get("converged"):
-        return "partial"
-    span = st.l1 + st.l2
-    res = st.info.get("residuals", (0.0, 0.0))
-    if span > 0.98 * pr.lam:
-        return "full_contact"
-    if min(res) < -1e-3 and "control" in st.info:
-        # does the advancing edge still want to advance with the contact at 95 % of λ?
-        i = int(np.argmin(res))
-        ext = [st.l1, st.l2]
-        ext[i] = 0.95 * pr.lam - ext[1 - i]
-        control, value = st.info["control"]
-        if pr._residual((0.5 * (ext[0] + ext[1]), 0.5 * (ext[1] - ext[0])), control,
-                        value)[i] < 0:
-            return "full_contact"
-    if span < 1e-3 * pr.lam or (max(res) > 1e-3 and span < 0.1 * pr.lam):
-        return "detached"
-    control, value = st.info.get("control", (None, None))
-    if control == "p_mean" and pr.dgamma > 0 and value < 0 and _beyond_pulloff(pr, value):
-        return "detached"
-    return "not_converged"
+    load = control == "p_mean"
+    v = value / (pr.p_star() if load else pr.amp)  # p̃ or Δ̃
+    if pr.dgamma == 0.0:
+        if load and v >= abs(ratio):
+            return Verdict("full_contact", f"p̃ = {v:.6g} ≥ |E(kv)|/E0 = {abs(ratio):.6g}: the "
+                           "full-contact pressure p̃ + Re[(E/E0) exp(ikx)] is ≥ 0 everywhere "
+                           "(closed form)", residual=0.0)
+        if v <= 0.0:
+            return Verdict("detached", (f"p̃ = {v:.6g}: no compressive load" if load else
+                                        f"Δ̃ = {v:.6g}: the crest does not pass the mean level")
+                           + " and no adhesion, so no contact", residual=0.0,
+                           delta=0.0 if load else v)
+    st = pr.robust_equilibrium(guess=guess, **{control: value})
+    falling = None
+    if st.info["converged"]:
+        slope = st.info.get("branch_slope", np.inf)
+        if stability and not (np.isfinite(slope) and slope > 0):
+            slope = _slope(pr, st, control)  # adhesiveless (inf: not computed) or not found
+        st.info["branch_slope"] = slope
+        scale = pr.k * (pr.p_star() if load else pr.amp)
+        if slope > 0 or not stability:
+            summ = _summary(pr, st)
+            if any(np.isnan(x) for k_, x in summ.items() if stability or k_ != "branch_slope"):
+                return Verdict("not_converged", "balanced, but a scalar of the state is nan",
+                               residual=st.info["residual"])
+            return Verdict("partial", f"{st.info['message']}; rising branch, "
+                           f"d{'p̃' if load else 'Δ̃'}/dã = {slope / scale:.3g} > 0", st,
+                           st.info["residual"])
+        if slope <= 0:
+            falling = st
+    elif pr.underresolved:  # the branch trace at this resolution would take minutes
+        return Verdict("not_converged", f"{st.info['message']}; {pr.underresolved}",
+                       residual=st.info["residual"])
+    return _branch_verdict(pr, control, v, st, falling)
 
 
-def _beyond_pulloff(pr: Sinusoid1D, p_mean: float) -> bool:
-    """True when the tensile load exceeds what the equilibrium branch can carry: the branch
-    load p(a) (contact size a prescribed, :func:`branch_point`) stays above ``p_mean`` over
-    the whole branch (sampled, then the minimum refined by a bounded search)."""
-    from scipy.optimize import minimize_scalar
+def _branch_verdict(pr: Sinusoid1D, control: str, v: float, st: State, falling) -> Verdict:
+    """:func:`_verdict` where the direct search found no stable equilibrium: the branch is
+    traced on :data:`VERDICT_GRID` and the control value ``v`` (p̃ or Δ̃) placed on it."""
+    from scipy.optimize import brentq
 
-    def load(a):
-        st = branch_point(pr, a)
-        return st.p_mean if st.info["converged"] else np.inf
+    load = control == "p_mean"
+    col, name = (0, "p̃") if load else (1, "Δ̃")
+    note = ""
+    if falling is not None:
+        s = falling.info["branch_slope"] / (pr.k * (pr.p_star() if load else pr.amp))
+        note = (f"; the equilibrium found at ã = {pr.k * falling.domain.a:.4g} lies on the "
+                f"falling branch (d{name}/dã = {s:.3g} ≤ 0: unstable under "
+                f"{'load' if load else 'displacement'} control)")
 
-    grid = np.geomspace(0.01, 0.8 * pr.lam / 2, 10)
-    vals = np.array([load(a) for a in grid])
-    if not np.isfinite(vals).any():
-        return False
-    i = int(np.argmin(vals))
-    lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
-    r = minimize_scalar(load, bounds=(lo, hi), method="bounded", options={"xatol": 1e-6})
-    return min(vals[i], r.fun) > p_mean
+    def unsettled(why):
+        if falling is not None:
+            return Verdict("unstable", why + note, falling, falling.info["residual"])
+        return Verdict("not_converged", f"{why}; direct search: {st.info['message']}",
+                       residual=st.info.get("residual", np.nan))
+
+    br = _Branch(pr)
+    A, P, D = br.trace(VERDICT_GRID / pr.k)
+    if A.size == 0:
+        return unsettled(f"no equilibrium branch found (ã from {VERDICT_GRID[0]:g} to "
+                         f"{VERDICT_GRID[-1]:g}){_edge_census(pr, VERDICT_GRID / pr.k)}")
+    V = P if load else D
+    if int(np.argmax(V)) == A.size - 1:  # still rising at the end of the grid: on to 99.6 %
+        A2, P2, D2 = br.trace(np.linspace(A[-1], 0.498 * pr.lam, 5)[1:])
+        A, P, D = (np.concatenate(z) for z in ((A, A2), (P, P2), (D, D2)))
+        V = P if load else D
+    n = A.size
+    span = f"(the branch traced from ã = {pr.k * A[0]:.3g} to {pr.k * A[-1]:.3g})"
+
+    def around(idx, sign):  # the extremum near A[idx] refined (only where it decides)
+        lo, hi = (A[idx - 1] if idx > 0 else A[0] / 10), A[min(idx + 1, n - 1)]
+        a_, v_ = br.refine(col, sign, lo, hi, xatol=1e-4)
+        return (a_, v_) if sign * v_ <= sign * V[idx] else (A[idx], V[idx])
+
+    # the rising part: from the smallest value before the largest (the pull-off) up to it
+    i = int(np.argmax(V))
+    j = int(np.argmin(V[: i + 1]))
+    nodes, vals = list(A[j: i + 1]), list(V[j: i + 1])
+    if v > V[i]:
+        a_hi, v_hi = around(i, -1.0) if i < n - 1 else (A[i], V[i])
+        if v > v_hi:
+            if not load:
+                return unsettled(f"Δ̃ = {v:.6g} is above the largest Δ̃ = {v_hi:.6g} of the "
+                                 f"branch {span}")
+            if pr.dgamma == 0.0:  # without adhesion full contact is p̃ ≥ |E(kv)|/E0 exactly
+                return unsettled(f"p̃ = {v:.6g} is above the largest load {v_hi:.6g} of the "
+                                 f"branch {span} but below |E(kv)|/E0")
+            end = (" (the branch still rises at 99.6 % of λ, counted as full contact)"
+                   if i == n - 1 else "")
+            return Verdict("full_contact", f"p̃ = {v:.6g} exceeds the largest load of the "
+                           f"equilibrium branch, p̃ = {v_hi:.6g} at ã = {pr.k * a_hi:.4g} "
+                           f"{span}{end}: no partial equilibrium carries it, the contact "
+                           "snaps into full contact (seed Fig. 13)" + note, residual=0.0)
+        if a_hi > nodes[-1]:
+            nodes, vals = nodes + [a_hi], vals + [v_hi]
+        else:
+            nodes, vals = nodes[:-1] + [a_hi], vals[:-1] + [v_hi]
+    if v < V[j]:
+        a_lo, v_lo = around(j, 1.0)
+        if v < v_lo:
+            if load and v > 0:
+                return unsettled(f"p̃ = {v:.6g} > 0 is below the smallest load {v_lo:.6g} of "
+                                 f"the branch {span}")
+            what = (f"the tensile load p̃ = {v:.6g} is below the pull-off load p̃ = {v_lo:.6g}"
+                    if load else
+                    f"Δ̃ = {v:.6g} is below the fixed-grip pull-off Δ̃ = {v_lo:.6g}")
+            return Verdict("detached", f"{what}, the smallest value before the rise of the "
+                           f"branch, at ã = {pr.k * a_lo:.4g} {span}: no stable contact"
+                           + note, residual=0.0, delta=br.at(a_lo)[1] if load else v)
+        if a_lo < nodes[0]:
+            nodes, vals = [a_lo] + nodes, [v_lo] + vals
+        else:
+            nodes, vals = [a_lo] + nodes[1:], [v_lo] + vals[1:]
+
+    # on the rising part: bracket on the traced points and solve
+    def gap(a):
+        x = br.at(a)[col]
+        if not np.isfinite(x):
+            raise ValueError("no branch point")
+        return x - v
+
+    nodes, vals = np.array(nodes), np.array(vals)
+    for k in np.flatnonzero((vals[:-1] <= v) & (vals[1:] >= v)):
+        try:
+            a_star = brentq(gap, nodes[k], nodes[k + 1], xtol=1e-12)
+        except ValueError:  # a point in the bracket not found
+            continue
+        pt = br.state(a_star)
+        if not pt.info["converged"]:
+            continue
+        ctl = {control: v * (pr.p_star() if load else pr.amp)}
+        eq = pr.equilibrium(guess=(pt.l1, pt.l2), **ctl)  # the same residual test as above
+        if not eq.info["converged"]:
+            continue
+        eq.info["branch_slope"] = _slope(pr, eq, control)
+        if eq.info["branch_slope"] > 0:
+            s = eq.info["branch_slope"] / (pr.k * (pr.p_star() if load else pr.amp))
+            return Verdict("partial", f"{eq.info['message']}; found on the rising branch "
+                           f"by tracing {name}(ã), d{name}/dã = {s:.3g} > 0" + note, eq,
+                           eq.info["residual"])
+    return unsettled(f"{name} = {v:.6g} lies on the rising part of the branch {span} "
+                     f"(from {vals[0]:.6g} to {vals[-1]:.6g}), but no stable equilibrium was "
+                     "found there")
+
+
+def _quotient(num: float, den: float) -> float:
+    """num/den, with 0/0 = 0 (no force at no load) and ±inf for a finite num at den = 0."""
+    if den != 0.0:
+        return num / den
+    return 0.0 if num == 0.0 else math.copysign(np.inf, num)
 
 
 def _summary(pr: Sinusoid1D, st: State) -> dict:
     """Dimensionless scalars of a state (k = Λ = E0* = 1 units)."""
     k, lam = pr.k, pr.lam
     pstar = pr.p_star()
+    control, value = st.info.get("control", ("p_mean", None))
+    # the prescribed load, not its rounding (μ̄ at p̃ = 0 is then ±inf, not F/1e-19)
+    pm = value if control == "p_mean" and value is not None else st.p_mean
     out = {
         "a_tilde": k * (st.l1 + st.l2) / 2, "e_tilde": k * (st.l2 - st.l1) / 2,
-        "p_tilde": st.p_mean / pstar, "delta_tilde": st.delta / pr.amp,
-        "mu_bar": pr.friction(st) / (k * pr.amp),
+        "p_tilde": pm / pstar, "delta_tilde": st.delta / pr.amp,
+        # an elastic contact is symmetric: no friction (the quadrature leaves ~1e-17, which
+        # at zero load would read as an infinite μ̄); viscoelastic at zero load: ±inf
+        "mu_bar": (_quotient(pr.friction_force(st), lam * pm) / (k * pr.amp)
+                   if pr.kernel.visco else 0.0),
         "K1": st.K[0], "K2": st.K[1],
     }
     slope = st.info.get("branch_slope", np.nan)
-    if not np.isfinite(slope):
-        slope = np.nan  # not computed (branch_point states, or no adhesion: p(a) only rises)
-    control = st.info.get("control", ("p_mean", None))[0]
     out["branch_slope"] = slope / (k * (pstar if control == "p_mean" else pr.amp))
     if pr.dgamma > 0 and pr.a0 > 0 and st.work[0] is not None:
         G1, G2 = (ew.dU / pr.a0 for ew in st.work)
     elif pr.dgamma > 0:  # a0 = 0: strict limit, δL_P → 0 and G_i = K_i²/(2E_tip*)
         G1, G2 = (K * abs(K) / (2 * pr.Estar_tip) for K in st.K)
-    else:
-        G1 = G2 = np.nan
-    dg = pr.dgamma if pr.dgamma > 0 else np.nan
-    mua = 0.0
     if pr.dgamma > 0:
-        mua = (G1 - G2) / (k * pr.amp * lam * st.p_mean) if st.p_mean != 0 else np.nan
-    out.update(G1_over_dgamma=G1 / dg, G2_over_dgamma=G2 / dg, mu_bar_adhesive=mua)
+        out.update(G1_over_dgamma=G1 / pr.dgamma, G2_over_dgamma=G2 / pr.dgamma,
+                   mu_bar_adhesive=(_quotient(G1 - G2, k * pr.amp * lam * pm)
+                                    if pr.kernel.visco else 0.0))
+    else:  # no adhesion: the edges close with K = 0 and release nothing
+        out.update(G1_over_dgamma=0.0, G2_over_dgamma=0.0, mu_bar_adhesive=0.0)
     return out
 
 
@@ -976,16 +1256,20 @@ SCALARS = {
     "a_tilde": "dimensionless contact semi-width k a",
     "e_tilde": "dimensionless eccentricity k e (> 0: toward the leading edge)",
     "p_tilde": "dimensionless mean pressure 2(1-ν²)p∞/(E0 k Λ)",
-    "delta_tilde": "dimensionless penetration Δ/Λ (mean-level gauge)",
+    "delta_tilde": "dimensionless penetration Δ/Λ (mean-level gauge; detached under load "
+                   "control: the Δ/Λ of the pull-off the contact let go at)",
     "mu_bar": "reduced friction coefficient μ/Λ̃, Eq. (19), (22)",
     "mu_bar_adhesive": "reduced adhesive friction (G1-G2)/(Λ̃ λ p∞), Eq. (23)",
-    "G1_over_dgamma": "energy release rate at the trailing (opening) edge, Eq. (20)",
-    "G2_over_dgamma": "energy release rate at the leading (closing) edge, Eq. (21)",
+    "G1_over_dgamma": "energy release rate at the trailing (opening) edge, Eq. (20) (0: no "
+                      "edge, or no adhesion)",
+    "G2_over_dgamma": "energy release rate at the leading (closing) edge, Eq. (21) (0: no "
+                      "edge, or no adhesion)",
     "a_tilde_adhesiveless": "adhesiveless k a at the same load",
     "e_tilde_adhesiveless": "adhesiveless k e at the same load",
     "mu_bar_adhesiveless": "adhesiveless μ/Λ̃ at the same load",
     "branch_slope": "dp̃/dã (load control) or dΔ̃/dã (displacement control) along the "
-                    "equilibrium branch: > 0 on the rising (stable) branch",
+                    "equilibrium branch: > 0 on the rising (stable) branch; 0 where there "
+                    "is no partial branch (full contact, detached: ã fixed)",
 }
 
 
@@ -994,79 +1278,91 @@ def solve(zeta: float, beta: float, Gamma: float, *, p_tilde: float | None = Non
           adhesiveless_reference: bool = True, quad: int | None = None):
     """One state of the seed's sinusoid problem; returns an xarray Dataset.
 
-    Give exactly one of ``p_tilde`` (load control) and ``delta_tilde`` (displacement control).
+    Give exactly one of ``p_tilde`` (load control) and ``delta_tilde`` (displacement control,
+    Δ̃ < 1: in the mean-level gauge Δ̃ = 1 is full contact at any load).
     ``a0_tilde`` = k a0 is the advance width of the edge energy balance (0: strict SIF limit).
     ``guess`` = (k l1, k l2) for continuation.  Scalars: a_tilde, e_tilde, p_tilde,
-    delta_tilde, mu_bar, mu_bar_adhesive, G1_over_dgamma, G2_over_dgamma, status, and the
-    adhesiveless a, e, μ at the same load; fields sigma_tilde (= σ/p* = -p̃) and u_tilde (= u/Λ)
-    on the contact mesh x_tilde.
+    delta_tilde, mu_bar, mu_bar_adhesive, G1_over_dgamma, G2_over_dgamma, branch_slope,
+    status, and the adhesiveless a, e, μ at the same load; fields sigma_tilde (= σ/p* = -p̃)
+    and u_tilde (= u/Λ) on the contact mesh x_tilde (the period for full contact and
+    detached states).  The status is verified (:func:`_verdict`), its reason is the
+    ``solver_message`` attribute; no scalar of a partial, full_contact, detached or unstable
+    state is nan (not_converged: all nan).
     """
     import xarray as xr
+
+    from .io import STATUS
 
     if (p_tilde is None) == (delta_tilde is None):
         raise ValueError("give exactly one of p_tilde (load control) and delta_tilde")
     for name, v in (("p_tilde", p_tilde), ("delta_tilde", delta_tilde)):
         if v is not None and not np.isfinite(v):
             raise ValueError(f"{name} = {v!r} must be finite")
+    if delta_tilde is not None and delta_tilde >= 1.0:
+        raise ValueError(f"delta_tilde = {delta_tilde!r} is outside the allowed range "
+                         "(-inf, 1): Δ̃ = 1 is full contact at an undetermined load (the mean "
+                         "gap vanishes) and no state has Δ̃ > 1; use p_tilde")
     pr = dimensionless_problem(zeta, beta, Gamma, a0_tilde, adhesive=Gamma > 0, modes=modes,
                                quad=quad)
     ratio = _modulus_ratio(zeta, beta)
-    full = None
-    if p_tilde is not None and Gamma == 0 and p_tilde >= abs(ratio):
-        full = _full_contact_dataset(zeta, beta, Gamma, a0_tilde, p_tilde, ratio)
+    control, value = (("p_mean", p_tilde * pr.p_star()) if p_tilde is not None
+                      else ("delta", delta_tilde * pr.amp))
+    vd = _verdict(pr, control, value, ratio, guess)
+    if vd.status in ("full_contact", "detached"):
+        vals, x, p, u = _closed_form(vd.status, p_tilde, vd.delta, ratio)
+        edges = (np.pi, np.pi) if vd.status == "full_contact" else (0.0, 0.0)
     else:
-        ctl = ({"p_mean": p_tilde * pr.p_star()} if p_tilde is not None
-               else {"delta": delta_tilde})
-        st = pr.robust_equilibrium(guess=guess, **ctl)
-        status = _status(pr, st)
-        if status == "full_contact" and p_tilde is not None:
-            full = _full_contact_dataset(zeta, beta, Gamma, a0_tilde, p_tilde, ratio)
-    if full is not None:
-        vals = {k_: full[k_].item() for k_ in SCALARS if k_ in full}
-    else:
-        vals = _summary(pr, st)
-        if status != "partial":
-            for key in vals:
-                vals[key] = np.nan
+        st = vd.state
+        vals = _summary(pr, st) if st is not None else dict.fromkeys(
+            ("a_tilde", "e_tilde", "p_tilde", "delta_tilde", "mu_bar", "branch_slope",
+             "G1_over_dgamma", "G2_over_dgamma", "mu_bar_adhesive"), np.nan)
+        if st is not None:
+            xi = np.cos(np.pi * np.arange(1, NXI + 1) / (NXI + 1))[::-1]
+            x = st.domain.c + st.domain.a * xi
+            p = st.domain.pressure(st.coef, x) / pr.p_star()
+            u = pr.w(x, st.delta) / pr.amp
+            x = x * pr.k
+            edges = (st.l1 * pr.k, st.l2 * pr.k)
+        else:
+            x = np.linspace(-np.pi, np.pi, NXI)
+            p = u = np.full(NXI, np.nan)
+            edges = (np.nan, np.nan)
     if adhesiveless_reference:
-        ref = dimensionless_problem(zeta, beta, Gamma, 0.0, adhesive=False, modes=modes,
-                                    quad=quad)
-        pt = vals["p_tilde"] if np.isfinite(vals["p_tilde"]) else p_tilde
-        v0 = dict.fromkeys(vals, np.nan)
-        if pt is not None and np.isfinite(pt) and pt >= abs(ratio):
-            v0.update(a_tilde=np.pi, e_tilde=0.0,
-                      mu_bar=float(-np.imag(ratio) / (2 * pt)))
-        elif pt is not None and np.isfinite(pt) and pt > 0:
-            s0 = ref.robust_equilibrium(p_mean=pt * ref.p_star())
-            if s0.info["converged"]:
-                v0 = _summary(ref, s0)
-        vals.update(a_tilde_adhesiveless=v0["a_tilde"], e_tilde_adhesiveless=v0["e_tilde"],
-                    mu_bar_adhesiveless=v0["mu_bar"])
-    if full is not None:
-        for k_, v in vals.items():
-            full[k_] = ((), float(v), {"long_name": SCALARS.get(k_, k_), "units": "1"})
-        return full
-    xi = np.cos(np.pi * np.arange(1, NXI + 1) / (NXI + 1))[::-1]
-    x = st.domain.c + st.domain.a * xi
-    p = st.domain.pressure(st.coef, x)
+        pt = p_tilde if p_tilde is not None else vals["p_tilde"]
+        vals.update(_adhesiveless_reference(zeta, beta, Gamma, pt, ratio, modes, quad))
     data = {k_: ((), float(v), {"long_name": SCALARS.get(k_, k_), "units": "1"})
             for k_, v in vals.items() if k_ not in ("K1", "K2")}
-    data["status"] = ((), status, {"long_name": "partial | full_contact | detached | "
-                                                "not_converged"})
-    data["sigma_tilde"] = (("x",), -p / pr.p_star(), {"long_name": "normal stress σ/p* = -p̃",
-                                                      "units": "1"})
-    data["u_tilde"] = (("x",), pr.w(x, st.delta) / pr.amp,
-                       {"long_name": "surface displacement u/Λ on the contact", "units": "1"})
-    ds = xr.Dataset(data, coords={"x_tilde": (("x",), x * pr.k, {"long_name": "k x",
-                                                                  "units": "1"})})
+    data["status"] = ((), vd.status, {"long_name": STATUS[1], "units": STATUS[0]})
+    data["sigma_tilde"] = (("x",), -p, {"long_name": "normal stress σ/p* = -p̃", "units": "1"})
+    data["u_tilde"] = (("x",), u, {"long_name": "surface displacement u/Λ on the contact "
+                                                "(the period: full contact, detached)",
+                                   "units": "1"})
+    ds = xr.Dataset(data, coords={"x_tilde": (("x",), x, {"long_name": "k x", "units": "1"})})
     ds.attrs.update(model="sinusoid1d", zeta=float(zeta), beta=float(beta),
                     Gamma=float(Gamma), a0_tilde=float(a0_tilde),
                     control="load" if p_tilde is not None else "displacement",
-                    modes=pr.M, quad=pr.Q, converged=int(bool(st.info.get("converged"))),
-                    solver_message=str(st.info.get("message")),
-                    residual=float(st.info.get("residual", np.nan)),
-                    l1_tilde=float(st.l1 * pr.k), l2_tilde=float(st.l2 * pr.k))
+                    modes=pr.M, quad=pr.Q,
+                    converged=int(vd.status in ("partial", "full_contact", "detached")),
+                    solver_message=vd.reason, residual=float(vd.residual),
+                    l1_tilde=float(edges[0]), l2_tilde=float(edges[1]))
     return ds
+
+
+def _adhesiveless_reference(zeta, beta, Gamma, pt, ratio, modes, quad) -> dict:
+    """The adhesiveless ã, ẽ, μ̄ at the load p̃ ``pt``, verified as in :func:`solve` (nan
+    without a load or where no state is found)."""
+    keys = ("a_tilde_adhesiveless", "e_tilde_adhesiveless", "mu_bar_adhesiveless")
+    if pt is None or not np.isfinite(pt):
+        return dict.fromkeys(keys, np.nan)
+    ref = dimensionless_problem(zeta, beta, Gamma, 0.0, adhesive=False, modes=modes, quad=quad)
+    vd = _verdict(ref, "p_mean", pt * ref.p_star(), ratio, stability=False)
+    if vd.status in ("full_contact", "detached"):
+        vals = _closed_form(vd.status, pt, vd.delta, ratio)[0]
+    elif vd.status == "partial":
+        vals = _summary(ref, vd.state)
+    else:
+        return dict.fromkeys(keys, np.nan)
+    return dict(zip(keys, (vals["a_tilde"], vals["e_tilde"], vals["mu_bar"]), strict=True))
 
 
 def _modulus_ratio(zeta, beta) -> complex:
@@ -1078,31 +1374,27 @@ def _modulus_ratio(zeta, beta) -> complex:
     return (1 - 1j * zeta) / (1 - 1j * zeta / beta)
 
 
-def _full_contact_dataset(zeta, beta, Gamma, a0_tilde, p_tilde, ratio):
-    """Full contact, closed form (physics.md §4.3): p̃(x) = p̃∞ + Re[(E/E0) e^{ikx}],
-    μ/Λ̃ = -Im[E/E0]/(2p̃∞), Δ̃ = 1 (zero-mean gauge: the mean gap Λ - Δ vanishes)."""
-    import xarray as xr
+def _closed_form(status: str, p_tilde, delta_tilde, ratio):
+    """(scalars, k x, p̃, u/Λ) of a full contact or detached state over one period.
 
+    Full contact (load control; physics.md §4.3): p̃(x) = p̃∞ + Re[(E/E0) e^{ikx}],
+    μ/Λ̃ = -Im[E/E0]/(2p̃∞), Δ̃ = 1 (zero-mean gauge: the mean gap Λ - Δ vanishes), no edges
+    (G = 0, no adhesive friction).  Detached: no contact, no pressure, a flat surface, with
+    ``delta_tilde`` the prescribed Δ̃ or, under load control, the Δ̃ of the pull-off (0 without
+    adhesion).  ã does not change with the load: branch_slope 0 (no partial branch)."""
     x = np.linspace(-np.pi, np.pi, NXI)
-    p = p_tilde + np.real(ratio * np.exp(1j * x))
-    mu = -np.imag(ratio) / (2 * p_tilde)
-    vals = dict(a_tilde=np.pi, e_tilde=0.0, p_tilde=p_tilde, delta_tilde=1.0, mu_bar=mu,
-                mu_bar_adhesive=0.0, G1_over_dgamma=np.nan, G2_over_dgamma=np.nan,
-                branch_slope=np.nan,
-                a_tilde_adhesiveless=np.pi if p_tilde >= abs(ratio) else np.nan,
-                e_tilde_adhesiveless=0.0, mu_bar_adhesiveless=mu)
-    data = {k_: ((), float(v), {"long_name": SCALARS.get(k_, k_), "units": "1"})
-            for k_, v in vals.items()}
-    data["status"] = ((), "full_contact", {"long_name": "partial | full_contact | detached | "
-                                                      "not_converged"})
-    data["sigma_tilde"] = (("x",), -p, {"long_name": "normal stress σ/p* = -p̃", "units": "1"})
-    data["u_tilde"] = (("x",), np.cos(x), {"long_name": "u/Λ on the contact", "units": "1"})
-    ds = xr.Dataset(data, coords={"x_tilde": (("x",), x, {"long_name": "k x", "units": "1"})})
-    ds.attrs.update(model="sinusoid1d", zeta=float(zeta), beta=float(beta), Gamma=float(Gamma),
-                    a0_tilde=float(a0_tilde), control="load", converged=1,
-                    solver_message="full contact (closed form)", residual=0.0,
-                    l1_tilde=np.pi, l2_tilde=np.pi)
-    return ds
+    if status == "full_contact":
+        p = p_tilde + np.real(ratio * np.exp(1j * x))
+        vals = dict(a_tilde=np.pi, e_tilde=0.0, p_tilde=p_tilde, delta_tilde=1.0,
+                    mu_bar=_quotient(-np.imag(ratio), 2 * p_tilde), u=np.cos(x))
+    else:
+        p = np.zeros(NXI)
+        vals = dict(a_tilde=0.0, e_tilde=0.0, p_tilde=0.0 if p_tilde is None else p_tilde,
+                    delta_tilde=delta_tilde, mu_bar=0.0, u=np.zeros(NXI))
+    u = vals.pop("u")
+    vals.update(mu_bar_adhesive=0.0, G1_over_dgamma=0.0, G2_over_dgamma=0.0,
+                branch_slope=0.0)
+    return {k_: float(v) for k_, v in vals.items()}, x, p, u
 
 
 def sweep(zeta, beta: float, Gamma: float, *, p_tilde=None, delta_tilde=None, a0_tilde: float,
@@ -1201,7 +1493,7 @@ def _branch_edges(pr: Sinusoid1D, a: float, guess):
         if not np.isfinite(d):
             return np.nan
         last[e] = d
-        return pr.edge_residual(pr.edge_law(pair, 2), d)
+        return pr.edge_residual(pr.edge_law(pair, 2), d, a)
 
     res = np.inf
     try:
@@ -1241,50 +1533,17 @@ def special_points(zeta: float, beta: float, Gamma: float, *, a0_tilde: float,
     Returns a dict with the keys of :func:`spectralbem.reference.johnson_special_points`.
     """
     from numpy.polynomial import chebyshev as C
-    from scipy.optimize import brentq, minimize_scalar
+    from scipy.optimize import brentq
 
     pr = dimensionless_problem(zeta, beta, Gamma, a0_tilde, modes=modes)
     a_grid = np.concatenate([np.geomspace(0.02, 0.5, n // 2, endpoint=False),
                              np.linspace(0.5, 3.0, n // 2)])
-    solved = {}  # ã -> (e, Δ), for warm starts
-
-    def at(a):
-        if solved:
-            near = min(solved, key=lambda b: abs(b - a))
-            guess = solved[near]
-        else:
-            guess = (0.0, None)
-        st = branch_point(pr, a, guess)
-        if not st.info["converged"] and guess != (0.0, None):
-            st = branch_point(pr, a, (0.0, None))
-        if not st.info["converged"]:
-            return np.nan, np.nan
-        solved[a] = ((st.l2 - st.l1) / 2, st.delta)
-        return st.p_mean / pr.p_star(), st.delta / pr.amp
-
-    vals = np.array([at(a) for a in a_grid])
-    for _ in range(3):
-        # the branch solver can lose the branch between two coarse grid points near the
-        # snap-in (measured: ζ = 0.1, ã0 = 1e-3, lost after ã = 1.93, found again up to 2.25
-        # in steps of 0.05): where the load maximum is the last converged point and a failed
-        # point follows, the gap is traced again in smaller steps (warm starts)
-        ok = np.isfinite(vals[:, 0])
-        last = np.flatnonzero(ok)
-        if last.size == 0 or int(np.argmax(vals[ok, 0])) != last.size - 1 \
-                or last[-1] == a_grid.size - 1:
-            break
-        fill = np.linspace(a_grid[last[-1]], a_grid[last[-1] + 1], 6)[1:-1]
-        a_grid = np.insert(a_grid, last[-1] + 1, fill)
-        vals = np.insert(vals, last[-1] + 1, [at(a) for a in fill], axis=0)
-    ok = np.isfinite(vals[:, 0])
-    A, P, D = a_grid[ok], vals[ok, 0], vals[ok, 1]
+    br = _Branch(pr)
+    at = br.at
+    A, P, D = br.trace(a_grid)
 
     def refine(col, idx, sign):
-        lo, hi = A[max(idx - 1, 0)], A[min(idx + 1, A.size - 1)]
-        # the value at an extremum is flat in ã: xatol 1e-5 leaves ~1e-10 in the value
-        r = minimize_scalar(lambda a: sign * at(a)[col], bounds=(lo, hi), method="bounded",
-                            options={"xatol": 1e-5})
-        return r.x, sign * r.fun
+        return br.refine(col, sign, A[max(idx - 1, 0)], A[min(idx + 1, A.size - 1)])
 
     # the snap-in point is the branch's load maximum; beyond it (toward full contact) the
     # load falls again on an unstable branch, possibly below the pull-off load: the minima

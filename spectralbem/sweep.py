@@ -200,6 +200,7 @@ class _IgnoreSigint(WorkerPlugin):
 def _client(scheduler, workers, dashboard=False):
     """(client, cluster or None).  A local cluster listens on 127.0.0.1 only; its dashboard
     is off unless ``dashboard`` (then on 127.0.0.1)."""
+    import dask
     from dask.distributed import Client, LocalCluster
 
     if scheduler:
@@ -210,8 +211,13 @@ def _client(scheduler, workers, dashboard=False):
     old = signal.getsignal(signal.SIGINT) if main else None
     if main:
         signal.signal(signal.SIGINT, signal.SIG_IGN)
+    # dask adds the dashboard's fallback page to its global list of HTTP routes in place: a
+    # copy without it, so that an earlier cluster of the process cannot turn it on here
+    routes = [r for r in dask.config.get("distributed.scheduler.http.routes", [])
+              if "missing_bokeh" not in r]
     try:
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), dask.config.set(
+                {"distributed.scheduler.http.routes": routes}):
             # without the dashboard, the scheduler's HTTP server (health and metrics routes)
             # takes any free loopback port; with it, port 8787 or (busy) any other: the link
             # is printed, dask's warning about the busy port is not

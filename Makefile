@@ -39,6 +39,7 @@ bench: $(STAMP)
 	$(BIN)/python bench/accuracy.py
 	$(BIN)/python bench/sweep2d.py
 	$(BIN)/python bench/oned.py
+	$(BIN)/python bench/rough_convergence.py
 
 figures: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python cases/figures_1d.py

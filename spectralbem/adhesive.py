@@ -15,9 +15,10 @@ front-layer energy balance of :mod:`spectralbem.criterion`, evaluated at fixed �
    minimisation.
 
 Leaving full contact (nucleation rule): a full contact opens only through a flaw.  When the
-mask covers the cell, a flaw — the disc of radius a0 at the peak tension of the full-contact
-solution — is opened once and the criterion decides: if it closes again the state is
-``full_contact``, if it grows the contact becomes partial.
+mask covers the cell, a flaw — the disc of radius ``flaw_radius`` (default a0; that is the
+radius of its balanced edge, so in an elastic scene its mask is a0/2 wider) at the peak
+tension of the full-contact solution — is opened once and the criterion decides: if it closes
+again the state is ``full_contact``, if it grows the contact becomes partial.
 """
 
 from __future__ import annotations
@@ -41,9 +42,9 @@ from .spectral import SpectralOperator
 from .surfaces import check_heights
 
 #: default tolerance of the balance in position (cells): a resolved front point is balanced
-#: when its sub-cell edge l* lies within ½ h + FRONT_TOL·h of the mask edge (the mask then
-#: holds l* to within one cell boundary); docs/theory.md "Convergence of the front"
-FRONT_TOL = 0.25
+#: when its balanced edge lies within ½ h + FRONT_TOL·h of the mask edge, one cell by default
+#: (the resolution of the mask; docs/theory.md, the 2D criterion and the sub-cell front)
+FRONT_TOL = 0.5
 #: load control: the sub-cell front carries the prescribed mean pressure within this
 #: fraction of the mean |p| (the mask state carries it minus the front's correction)
 LOAD_TOL = 1e-6
@@ -71,7 +72,7 @@ class AdhesiveResult:
     message: str
     history: list = field(default_factory=list)
     a0: float = 0.0  # the advance width used: the one asked for (m)
-    unresolved_patches: int = 0  # contact patches smaller than a disc of radius a0
+    unresolved_patches: int = 0  # contact patches too thin for a band of width a0
     offset_in: np.ndarray | None = None  # the same on inner front cells (m)
     edge_shift: float = 0.0  # a0/2 in elastic scenes (sharp-crack edge), 0 otherwise (m)
     resolved: np.ndarray | None = None  # outer front cells of resolved patches
@@ -79,30 +80,36 @@ class AdhesiveResult:
     residual: float = float("nan")  # largest balance residual in position (cells)
 
 
-def patch_labels(mask: np.ndarray, a0_cells: float):
+def patch_labels(mask: np.ndarray, a0: float, spacing):
     """(labels, resolved per label): 4-connected contact patches (periodic images not
-    merged) and whether each holds at least a disc of radius a0 (label 0: outside)."""
+    merged) and whether each can hold a band of width a0 — some cell of it lies at least a0
+    from the outside (a disc of radius ≥ a0, a strip of half-width ≥ a0); label 0: outside."""
     from scipy import ndimage
 
+    from .criterion import _wrap_edt
+
     lab, n = ndimage.label(mask)
-    sizes = np.bincount(lab.ravel(), minlength=n + 1)
-    ok = sizes >= np.pi * a0_cells**2
+    if n == 0:
+        return lab, np.zeros(1, bool)
+    hmin = min(spacing)
+    d_in, _, _ = _wrap_edt(mask, spacing, int(np.ceil(a0 / hmin)) + 2)
+    deepest = np.asarray(ndimage.maximum(d_in, lab, np.arange(n + 1)))
+    ok = deepest >= a0 * (1 - 1e-9)
     ok[0] = False
     return lab, ok
 
 
-def unresolved_patches(mask: np.ndarray, a0_cells: float) -> int:
-    """Number of contact patches with fewer cells than a disc of radius a0: their fronts are
-    closer than a0 to each other, so the band tests cannot resolve them (reported, excluded
-    from the front outputs)."""
-    lab, ok = patch_labels(mask, a0_cells)
+def unresolved_patches(mask: np.ndarray, a0: float, spacing) -> int:
+    """Number of contact patches too thin for a band of width a0 (:func:`patch_labels`):
+    the band tests cannot resolve them (reported, excluded from the front outputs)."""
+    lab, ok = patch_labels(mask, a0, spacing)
     return int(ok.size - 1 - ok[1:].sum())
 
 
-def resolved_front(mask, outer, inner, a0_cells):
+def resolved_front(mask, outer, inner, a0: float, spacing):
     """(outer, inner) front cells that belong to resolved patches (an outer front cell
     belongs to each patch it touches; resolved if one of them is)."""
-    lab, ok = patch_labels(mask, a0_cells)
+    lab, ok = patch_labels(mask, a0, spacing)
     res_in = inner & ok[lab]
     res_out = np.zeros_like(outer)
     for ax in (0, 1):
@@ -163,6 +170,22 @@ def _moves(tests, mask, s_out, s_in, w, pinned, hmin):
     return add, remove
 
 
+def _held_offsets(s_out, s_in, outer, held_in):
+    """Offsets where non-penetration holds the edge: a front cell that cannot open (its
+    opening leaves the surfaces interpenetrating, or load control closed it again) is a
+    compressive edge, not a crack tip; the energy balance's inward offset there is an
+    extrapolation of meaningless works (negative gap times compressive pressure), so the
+    edge stays at the mask edge, as in an adhesiveless contact: s ≥ 0 on those inner cells
+    and on the outer cells next to them (an outward balance still counts)."""
+    near = np.zeros_like(held_in)
+    for ax in (0, 1):
+        for sh in (1, -1):
+            near |= np.roll(held_in, sh, axis=ax)
+    s_in = np.where(held_in, np.maximum(s_in, 0.0), s_in)
+    s_out = np.where(outer & near, np.maximum(s_out, 0.0), s_out)
+    return s_out, s_in
+
+
 def _blocked(tests, w):
     """Cells whose opening would leave the surfaces interpenetrating (non-penetration holds
     them closed whatever the balance says)."""
@@ -184,16 +207,33 @@ def _predictor_moves(tests, mask, outer, w, pinned, hmin):
     return add, remove
 
 
-def balance_residual(s_out, s_in, res_out, res_in, free_in, hmin):
+def balance_residual(s_out, s_in, res_out, res_in, free_in, hmin, bracketed=None):
     """Residual of the balance in position, in cells, on the resolved front cells: how far
     the balanced edge lies beyond the half cell the mask edge stands for,
     max(0, |s| − h/2)/h (outward on outer cells, inward on inner cells that may open:
-    ``free_in``).  Returns (max residual, the residuals of the tested front cells)."""
-    r_out = np.maximum(0.0, s_out[res_out] - 0.5 * hmin) / hmin
-    r_in = np.maximum(0.0, -s_in[res_in & free_in] - 0.5 * hmin) / hmin
-    r = np.concatenate([r_out, r_in])
+    ``free_in``).  A front cell whose band cell just flipped back (``bracketed``: one state
+    closes it, the next opens it) has its balanced edge inside that cell: residual ½ at
+    most.  Returns (max residual, the residuals of the tested front cells)."""
+    r_out = np.maximum(0.0, s_out - 0.5 * hmin) / hmin
+    r_in = np.maximum(0.0, -s_in - 0.5 * hmin) / hmin
+    if bracketed is not None:
+        r_out = np.where(bracketed, np.minimum(r_out, 0.5), r_out)
+        r_in = np.where(bracketed, np.minimum(r_in, 0.5), r_in)
+    r = np.concatenate([r_out[res_out], r_in[res_in & free_in]])
     r = np.where(np.isnan(r), np.inf, r)  # an untested front cell is not balanced
     return (float(r.max()) if r.size else 0.0), r
+
+
+def _bracketed(tests, add, remove, last_change):
+    """Front cells whose band cells flip back this iteration (2-cycle): their balanced edge
+    lies inside the flipping cell."""
+    b = tests.bands
+    out = np.zeros(add.shape, bool)
+    back_add = np.flatnonzero(add & last_change)
+    back_rem = np.flatnonzero(remove & last_change)
+    out.ravel()[b.outer_owner.ravel()[back_add]] = True
+    out.ravel()[b.inner_owner.ravel()[back_rem]] = True
+    return out
 
 
 def _nucleation_flaw(op, h, mean_pressure, penetration, a0):
@@ -273,7 +313,8 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
                    front_smoothing: float = FRONT_SMOOTHING,
                    smoothing_per_radius: float = SMOOTHING_PER_RADIUS,
                    rtol: float = 1e-10, observables: dict | None = None,
-                   criterion: str = "exact", front_tol: float = FRONT_TOL) -> AdhesiveResult:
+                   criterion: str = "exact", front_tol: float = FRONT_TOL,
+                   flaw_radius: float | None = None) -> AdhesiveResult:
     """Adhesive equilibrium under penetration or mean-pressure control.
 
     ``dgamma``: work of adhesion Δγ (J/m², scalar or per-cell map); ``a0``: advance width (m),
@@ -289,6 +330,10 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     ``front_smoothing``: σ (cells) of the average along the front
     (criterion.smooth_along_front), raised to ``smoothing_per_radius`` times the front
     radius 2A/P of large patches (criterion.patch_sigmas; 0 keeps σ fixed).
+
+    ``flaw_radius``: radius (m) of the flaw through which a full contact may open (default
+    a0; module docstring).  In an elastic scene it decides by Griffith's condition whether
+    the full contact opens, so it is a physical input there, unlike a0.
 
     Status: ``partial`` only when every resolved front cell is balanced within ``front_tol``
     cells (:func:`balance_residual`); ``not_converged`` otherwise (a cycle, an oscillation or
@@ -307,11 +352,12 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     delta = penetration
     p = np.zeros(cell.shape)
     p1 = None
-    corr = 0.0  # load control: mean pressure of the sub-cell front minus the mask state's
+    corr, prev = 0.0, None  # load control: the front's mean pressure minus the mask's
     osc = _Oscillation(cell.shape)
-    last_removed = np.zeros(cell.shape, bool)
+    opened = np.zeros(cell.shape, bool)  # cells the criterion has opened in this solve
+    last_change = np.zeros(cell.shape, bool)
     flaw_tried = False
-    pinned = np.zeros(cell.shape, bool)  # opened, then closed at once by non-penetration
+    pinned = np.zeros(cell.shape, bool)  # opened, then closed again by non-penetration
     solves = 0
     history = []
     status, message, converged = "not_converged", "", False
@@ -326,8 +372,10 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
             p = np.zeros(cell.shape)
             break
         if mask.all():
-            flaw = None if flaw_tried else _nucleation_flaw(op, h, mean_pressure, penetration,
-                                                            a0)
+            # the flaw's balanced edge has the flaw radius: its mask edge lies the
+            # sharp-crack shift further out (elastic scenes)
+            flaw = None if flaw_tried else _nucleation_flaw(
+                op, h, mean_pressure, penetration, (flaw_radius or a0) + shift)
             if flaw is None:
                 from .contact import _full_contact
 
@@ -336,7 +384,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
                     p, delta = full
                 status, message = "full_contact", "the contact covers the cell"
                 if flaw_tried:
-                    message += " (a flaw of radius a0 nucleated at the peak tension closed)"
+                    message += " (the nucleation flaw at the peak tension closed)"
                 break
             flaw_tried = True  # nucleation rule: open it once, let the criterion decide
             mask = ~flaw
@@ -364,9 +412,9 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
         u = op.apply(p)
         pen = ~mask & (u - w < -1e-12 * max(1.0, float(np.abs(w).max())))
         if pen.any():  # contact nucleation (JKR jump-in)
-            # a cell the criterion just opened that interpenetrates at the new Δ (load
-            # control) cannot open: it stays closed (pinned) for the rest of this solve
-            pinned |= pen & last_removed
+            # a cell the criterion opened that interpenetrates at a later Δ (load control)
+            # cannot open: it stays closed (pinned) for the rest of this solve
+            pinned |= pen & opened
             mask |= pen
             continue
         outer, inner = front_cells(mask)
@@ -380,7 +428,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
                 history.append((it, int(mask.sum()), int(add.sum()), int(remove.sum()),
                                 float(delta)))
                 mask = (mask | add) & ~remove
-                last_removed = remove
+                opened |= remove
                 continue
             # the predictor has brought the front to (or cycling around) its balance: the
             # exact tests take over ("hybrid"), or only evaluate the outputs ("predictor")
@@ -392,35 +440,52 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
             message = "layer test: " + tests.message
             break
         s_out, s_in = _offsets(tests.F_close, tests.F_open, outer, inner, a0, shift)
+        held = pinned | _blocked(tests, w)
+        s_out, s_in = _held_offsets(s_out, s_in, outer, inner & held)
         add, remove = _moves(tests, mask, s_out, s_in, w, pinned, hmin)
-        res_out, res_in = resolved_front(mask, outer, inner, a0 / hmin)
-        rmax, r = balance_residual(s_out, s_in, res_out, res_in,
-                                   ~pinned & ~_blocked(tests, w), hmin)
+        res_out, res_in = resolved_front(mask, outer, inner, a0, (cell.hx, cell.hy))
+        rmax, r = balance_residual(s_out, s_in, res_out, res_in, ~held, hmin,
+                                   _bracketed(tests, add, remove, last_change))
         frac = float(np.mean(r <= front_tol)) if r.size else 1.0
         history.append((it, int(mask.sum()), int(add.sum()), int(remove.sum()), float(delta)))
         load_ok, new_corr = True, corr
         if mean_pressure is not None:  # the load carried by the sub-cell front
-            pf = at_front(tests, s_out, {"mean_pressure": float(p.mean())}, a0)
+            pf = at_front(tests, np.where(res_out, s_out, np.nan),
+                          {"mean_pressure": float(p.mean())}, a0)
             new_corr = pf["mean_pressure"] - float(p.mean())
             load_ok = abs(new_corr - corr) <= LOAD_TOL * float(np.abs(p).mean())
+        if not res_out.any():  # no resolved patch: nothing verifies a balance
+            rmax, frac = float("inf"), 0.0
         if (rmax <= front_tol and load_ok) or criterion == "predictor":
-            converged, status = rmax <= front_tol and load_ok, "partial"
+            converged = status_ok = rmax <= front_tol
+            status = "partial" if status_ok else "not_converged"
             message = (f"converged: every resolved front cell balanced within "
                        f"{front_tol:g} cells (largest residual {rmax:.3f})")
-            if criterion == "predictor":
-                status = "partial" if converged else "not_converged"
+            if criterion == "predictor":  # one exact evaluation, no load correction
                 message = (f"predictor criterion; exact tests of the final mask: "
                            f"{100 * frac:.1f} % of the front balanced within {front_tol:g} "
-                           f"cells (largest residual {rmax:.3f})")
+                           f"cells (largest residual {rmax:.3f}); the front carries "
+                           f"{float(p.mean()) + new_corr:.6g} Pa of mean pressure")
             break
-        if rmax <= front_tol or not (add.any() or remove.any()):
+        moving = add.any() or remove.any()
+        if not res_out.any() and not moving:
+            message = ("every contact patch is too thin for a band of width a0: the balance "
+                       "cannot be verified")
+            break
+        if rmax <= front_tol or not moving:
             # balanced on this mask: the front's load correction moves Δ (updated only
-            # here, never with the mask moving: a correction lagging behind a moving
-            # mask makes the edges cycle); a new Δ makes new states
+            # here, never with the mask moving: a correction that lags a moving mask makes
+            # the edges cycle); a new Δ makes new states
             if it == max_outer:
                 message = f"not converged in {max_outer} outer iterations (load)"
                 break
-            corr = new_corr
+            # secant on g(c) = f(c) − c, the fixed point of the front's correction f (a
+            # plain update c ← f(c) overshoots where the front is stiff: rough patches)
+            g = new_corr - corr
+            if prev is not None and g != prev[1]:
+                corr, prev = corr - g * (corr - prev[0]) / (g - prev[1]), (corr, g)
+            else:
+                corr, prev = new_corr, (corr, g)
             osc.seen.clear()
             continue
         reason = osc.step(mask, add | remove)
@@ -430,15 +495,18 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
                        f"{front_tol:g} cells (largest residual {rmax:.3f} cells)")
             break
         mask = (mask | add) & ~remove
+        last_change = add | remove
+        prev = None  # the load correction's secant belongs to one mask
         # the tests and bands of the old mask: freed before the next state's solves
         tests = res_out = None
-        last_removed = remove
+        opened |= remove
     else:  # the guard ran out on a nucleation step
         message = f"not converged in {max_outer} outer iterations"
     pm = float(p.mean())
     if status == "partial":  # the mean pressure carried by the sub-cell front
-        pm = at_front(tests, s_out, {"mean_pressure": pm}, a0)["mean_pressure"]
-    nun = unresolved_patches(mask, a0 / hmin)
+        pm = at_front(tests, np.where(res_out, s_out, np.nan), {"mean_pressure": pm},
+                      a0)["mean_pressure"]
+    nun = unresolved_patches(mask, a0, (cell.hx, cell.hy))
     if nun:
         message += f"; {nun} contact patches smaller than a disc of radius a0 (unresolved)"
     return AdhesiveResult(p, mask, float(delta), pm, tests, s_out, it, solves,

@@ -53,6 +53,9 @@ FRONT_SMOOTHING = 6.0
 #: Patches under 26 cells of front radius keep σ = 6.  0 switches the growth off.
 SMOOTHING_PER_RADIUS = 0.23
 
+#: average along the front graph (True) or with a grid Gaussian restricted to front cells
+FRONT_GRAPH = True
+
 
 def _wrap_edt(free: np.ndarray, sampling, pad: int):
     """Periodic Euclidean distance (and nearest-target indices) to the cells where free is
@@ -207,8 +210,9 @@ def _front_average(b: Bands, F_close, W_close, F_open, W_open, sigma: float,
     front cell weighing by its band's Δγ·area), with the per-patch σ of
     :func:`patch_sigmas`."""
     sig_out, sig_in = patch_sigmas(b.mask, b.outer_front, b.inner_front, sigma, per_radius)
-    return (smooth_along_front(F_close, b.outer_front, sig_out, W_close),
-            smooth_along_front(F_open, b.inner_front, sig_in, W_open))
+    normal = b.normal if FRONT_GRAPH else None
+    return (smooth_along_front(F_close, b.outer_front, sig_out, W_close, normal),
+            smooth_along_front(F_open, b.inner_front, sig_in, W_open, normal))
 
 
 def _owner_sums(values: dict, owner: np.ndarray, owners: np.ndarray, weight: float,
@@ -494,7 +498,7 @@ def patch_sigmas(mask, outer_front, inner_front, sigma: float, per_radius: float
 
 
 def smooth_along_front(F: np.ndarray, front: np.ndarray, sigma,
-                       weights: np.ndarray | None = None) -> np.ndarray:
+                       weights: np.ndarray | None = None, normal=None) -> np.ndarray:
     """Gaussian average of F over the front cells only (σ in cells).
 
     On a pixelated curved front the per-cell layer work scatters by ±30 % around the local
@@ -502,19 +506,23 @@ def smooth_along_front(F: np.ndarray, front: np.ndarray, sigma,
     do not); averaging along the front removes the staircase noise.  A straight grid-aligned
     front is unchanged (all its cells carry the same value per edge).  ``sigma``: a number,
     or per-cell values from :func:`patch_sigmas` (each group of front cells with the same σ
-    is averaged over itself only).
+    is averaged over itself only).  With the front's unit ``normal`` the average runs along
+    the front itself (:func:`_smooth_on_front_graph`: never across a gap, a neck or to another
+    patch); without it, a Gaussian over the grid restricted to front cells.
     """
     if isinstance(sigma, dict):
         out = np.full(F.shape, np.nan)
         for s_ in np.unique(sigma["sigma"]):
             sel = np.zeros(F.shape, bool)
             sel.ravel()[sigma["cells"][sigma["sigma"] == s_]] = True
-            part = smooth_along_front(F, front & sel, float(s_), weights)
+            part = smooth_along_front(F, front & sel, float(s_), weights, normal)
             out[sel] = part[sel]
         return out
     if sigma <= 0:
         return F
     ok = front & np.isfinite(F)
+    if normal is not None:
+        return _smooth_on_front_graph(F, ok, sigma, weights, normal)
     wt = np.where(ok, 1.0 if weights is None else weights, 0.0)
     num = np.where(ok, F, 0.0)
     num *= wt
@@ -524,6 +532,41 @@ def smooth_along_front(F: np.ndarray, front: np.ndarray, sigma,
     num[sel] /= wt[sel]
     num[~sel] = np.nan
     return num
+
+
+def _smooth_on_front_graph(F, ok, sigma: float, weights, normal) -> np.ndarray:
+    """Weighted average of F along the front graph: the front cells ``ok`` joined to their
+    8-neighbours on the front whose normals agree (n_i·n_j > 0, so the two sides of a neck or
+    of a narrow gap stay apart); the kernel is the binomial walk ½(I + Adj/2) applied 2σ²
+    times, a Gaussian of σ cells along a straight front (variance ½ cell² a step).  A ratio
+    of sums: Σ K w F / Σ K w."""
+    from scipy import sparse
+
+    shape = F.shape
+    idx = np.flatnonzero(ok)
+    n = idx.size
+    pos = np.full(F.size, -1, np.int64)
+    pos[idx] = np.arange(n)
+    i, j = np.divmod(idx, shape[1])
+    nx_, ny_ = normal[0].ravel()[idx], normal[1].ravel()[idx]
+    rows, cols = [], []
+    for di, dj in ((1, 0), (0, 1), (1, 1), (1, -1)):  # each undirected pair once
+        k = pos[((i + di) % shape[0]) * shape[1] + (j + dj) % shape[1]]
+        sel = k >= 0
+        sel[sel] = nx_[sel] * nx_[k[sel]] + ny_[sel] * ny_[k[sel]] > 0
+        rows.append(np.flatnonzero(sel))
+        cols.append(k[sel])
+    r_, c_ = np.concatenate(rows), np.concatenate(cols)
+    adj = sparse.coo_matrix((np.full(r_.size, 0.25), (r_, c_)), shape=(n, n)).tocsr()
+    step = (adj + adj.T + sparse.identity(n, format="csr") * 0.5).tocsr()
+    w = np.ones(n) if weights is None else weights.ravel()[idx].astype(float)
+    num, den = w * F.ravel()[idx], w.copy()
+    for _ in range(int(round(2 * sigma**2))):
+        num, den = step @ num, step @ den
+    out = np.full(shape, np.nan)
+    good = den > 0
+    out.ravel()[idx[good]] = num[good] / den[good]
+    return out
 
 
 def sub_cell_offset(F_close, F_open, a0: float):

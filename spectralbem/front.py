@@ -5,7 +5,8 @@ boundary; the balanced edge of each outer front cell lies ``offset_out`` beyond 
 quantities below are integrals over that sub-cell front, on the resolved patches only
 (patches smaller than a disc of radius a0 are counted, not averaged):
 
-* the contact area: the mask's area plus Σ offset·ds over the outer front;
+* the contact area: the mask's area plus Σ offset·ds over the outer front of the resolved
+  patches (an unresolved patch counts with its mask);
 * the front length Σ ds, with ds = 1/max(|n_x|/h_y, |n_y|/h_x) the length of front each
   outer front cell stands for (a digital disc's outer front cells sum to its perimeter
   within 0.5 % at 50-150 cells of radius);
@@ -35,10 +36,13 @@ def at_front(tests, offset_out, base: dict, a0: float) -> dict:
     colour's part of the front moves by its length-weighted mean outward offset toward the
     state with its closing band closed, and by its mean inward offset toward the state with
     its opening band opened (both at the same Δ), to first order in offset/a0.  ``base``:
-    the mask state's values (names of the tests' observables, e.g. ``mean_pressure``)."""
+    the mask state's values (names of the tests' observables, e.g. ``mean_pressure``);
+    ``offset_out``: nan on front cells that must not move (unresolved patches)."""
     b = tests.bands
     ds = front_length_weights(b.normal, *b.spacing)
-    s = np.where(np.isfinite(offset_out), offset_out, 0.0)
+    # only a tested interval is interpolated: offsets beyond ±a0 (extrapolations of a front
+    # far from balance) and untested cells (nan, ±inf) count as ±a0 and 0
+    s = np.clip(np.where(np.isfinite(offset_out), offset_out, 0.0), -a0, a0)
     out = dict(base)
     for ci, col in enumerate(tests.colour_map):
         sel = b.outer_front & col
@@ -62,9 +66,9 @@ def front_outputs(op, r, dgamma) -> dict:
     t = r.tests
     b = t.bands
     ds = front_length_weights(b.normal, cell.hx, cell.hy)
-    s = np.nan_to_num(r.offset_out, nan=0.0, posinf=0.0, neginf=0.0)
     ok = b.outer_front & (r.resolved if r.resolved is not None else True)
-    area = float(r.mask.sum() * cell.cell_area + np.sum(np.where(b.outer_front, s * ds, 0.0)))
+    s = np.clip(np.where(ok & np.isfinite(r.offset_out), r.offset_out, 0.0), -r.a0, r.a0)
+    area = float(r.mask.sum() * cell.cell_area + np.sum(s * ds))
     dg = np.broadcast_to(np.asarray(dgamma, float), cell.shape)
     G = np.where(ok & np.isfinite(t.dLP_rate), dg - t.dLP_rate, np.nan)
     ok &= np.isfinite(G)

@@ -73,6 +73,7 @@ class Scene:
                                                   "smoothing_per_radius": 0.23})
     fields: bool = True
     control: tuple = ()
+    flaw_radius: float | None = None  # m; None: a0
 
     @property
     def adhesive(self) -> bool:
@@ -342,7 +343,10 @@ def _build_physical(spec: dict, base: Path) -> Scene:
                  values[0] if name == "mean_pressure" else None,
                  values[0] if name == "penetration" else None, "physical",
                  {"name": spec["scene"]["name"]}, layer, model, spec,
-                 dict(spec["solver"]), spec["output"]["fields"], (name, list(values)))
+                 dict(spec["solver"]), spec["output"]["fields"], (name, list(values)),
+                 adh.get("flaw_radius"))
+
+
 def _edges_y_invariant(mask, offset, cell):
     """Trailing/leading edge distances (l1, l2) from the summit, averaged over rows, with the
     sub-cell offsets of the outer front cells."""
@@ -400,7 +404,9 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
                            observables=obs, max_outer=scene.solver["max_outer"],
                            front_smoothing=scene.solver.get("front_smoothing", 6.0),
                            smoothing_per_radius=scene.solver.get("smoothing_per_radius", 0.23),
-                           criterion=scene.solver.get("criterion", "exact"))
+                           criterion=scene.solver.get("criterion", "exact"),
+                           front_tol=scene.solver.get("front_tol", 0.5),
+                           flaw_radius=scene.flaw_radius)
         p, mask, delta, status = r.pressure, r.mask, r.penetration, r.status
         out["p_front"] = r.mean_pressure
         a0e = r.a0
@@ -518,7 +524,9 @@ def _solve_grid(scene: Scene, mask0=None):
                            max_outer=scene.solver["max_outer"],
                            front_smoothing=scene.solver.get("front_smoothing", 6.0),
                            smoothing_per_radius=scene.solver.get("smoothing_per_radius", 0.23),
-                           criterion=scene.solver.get("criterion", "exact"))
+                           criterion=scene.solver.get("criterion", "exact"),
+                           front_tol=scene.solver.get("front_tol", 0.5),
+                           flaw_radius=scene.flaw_radius)
         p, mask, delta, status = r.pressure, r.mask, r.penetration, r.status
         u = op.apply(p)
         msg = r.message

@@ -84,6 +84,9 @@ SECTIONS = {
         "a0": _k("number", "advance width of the edge energy balance (a process-zone "
                  "length; at least one cell, at most half the cell)", "m", 0, None, True,
                  default=None),
+        "flaw_radius": _k("number", "radius of the flaw through which a full contact may "
+                          "open (default: a0); in elastic scenes Griffith's condition on it "
+                          "decides", "m", 0, None, True, default=None),
     },
     "motion": {
         "speed": _k("number", "sliding speed |v| of the indenter relative to the slab", "m/s",
@@ -116,6 +119,9 @@ SECTIONS = {
         "smoothing_per_radius": _k("number", "σ grows to this fraction of the front "
                                    "radius 2A/P of large contact patches (0: σ fixed)", "", 0, 1,
                                    default=0.23),
+        "front_tol": _k("number", "tolerance of the edge balance in position: every resolved "
+                        "front cell's balanced edge within ½ + front_tol cells of the mask "
+                        "edge", "cells", 0, 0.5, True, default=0.5),
         "criterion": _k("string", "front criterion of adhesive scenes: exact layer tests, the "
                         "zero-solve predictor then exact tests (hybrid), or the predictor "
                         "alone (predictor; less accurate, see docs/performance.md)",

@@ -235,19 +235,27 @@ def test_snap_in_to_full_contact_2d():
 
 def test_leaving_full_contact_by_the_nucleation_rule():
     """Elastic sinusoid (Γ = 0.05, Johnson: partial branch for p̃ in [-0.165, 0.168]) started
-    in full contact: above the branch the nucleated flaw closes (full_contact), at p̃ = 0 the
-    flaw grows to the partial contact of the 1D method, below pull-off it detaches."""
+    in full contact, a0 = 4 cells: a full contact opens only through the flaw, and in an
+    elastic scene Griffith decides.  The full-contact tension at the trough is p* − p̄, and a
+    y-invariant crack of half-width c there releases G = π (p* − p̄)² c / (2 E*), so the flaw
+    grows when c > 2Δγ E*/(π (p* − p̄)²): 0.40 at p̃ = 0 and 1.6 at p̃ = 0.5 (k = E* = 1
+    units).  A flaw of 8 cells (c = 0.20) closes at p̃ = 0; one of 24 cells (c = 0.59) grows to
+    Johnson's partial contact (measured ã 1.3867 from the mask against 1.3839: within one
+    cell); at p̃ = 0.5 both close; below pull-off the contact detaches."""
     cell = Cell(2 * np.pi, 2 * np.pi / N, N, 1)
     op = SpectralOperator(cell, Elastic(1.0, 0.0))
     h = sinusoid(cell, 1.0)
     full = np.ones(cell.shape, bool)
+    c_crit = 2 * np.pi * 0.05 / (np.pi * 0.5**2)  # at p̃ = 0 (p̄ = 0, p* = 1/2)
+    assert 8 * H < c_crit < 24 * H
     status = {}
-    for pt in (0.5, 0.0, -0.3):
-        r = solve_adhesive(op, h, np.pi * 0.05, 4 * H, mean_pressure=pt / 2, mask0=full)
-        status[pt] = r.status
-        if pt == 0.0:  # the 1D method at the same a0 (the finite-a0 edge shift is large
-            # at Γ = 0.05: ã = 1.274 vs Johnson's 1.384); the mask resolves ã to one cell
-            ref1 = sinusoid1d.solve(0.0, 1.0, 0.05, p_tilde=0.0, a0_tilde=4 * H,
-                                    adhesiveless_reference=False)
-            assert abs(r.mask.mean() * np.pi - ref1.a_tilde.item()) <= H
-    assert status == {0.5: "full_contact", 0.0: "partial", -0.3: "detached"}
+    for flaw in (8, 24):
+        for pt in (0.5, 0.0, -0.3):
+            r = solve_adhesive(op, h, np.pi * 0.05, 4 * H, mean_pressure=pt / 2, mask0=full,
+                               flaw_radius=flaw * H)
+            status[flaw, pt] = r.status
+            if (flaw, pt) == (24, 0.0):
+                assert abs(r.mask.mean() * np.pi - ref.johnson_a(0.0, 0.05)) <= H
+    assert status == {(8, 0.5): "full_contact", (8, 0.0): "full_contact",
+                      (8, -0.3): "detached", (24, 0.5): "full_contact",
+                      (24, 0.0): "partial", (24, -0.3): "detached"}

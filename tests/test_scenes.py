@@ -223,6 +223,8 @@ REDUCED = {
                           "surface.cutoff_wavelength": 1.25e-4,
                           "control.mean_pressure": [1e4, 3e4, 1e4]},
     "sinusoid_physical": {},
+    "rough_convergence": {"grid.Nx": 64, "grid.Ny": 64, "adhesion.a0": 3.125e-5,
+                          "surface.cutoff_wavelength": 1.25e-4},
 }
 
 

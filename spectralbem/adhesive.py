@@ -207,26 +207,22 @@ def _predictor_moves(tests, mask, outer, w, pinned, hmin):
     return add, remove
 
 
-def balance_residual(s_out, s_in, res_out, res_in, free_in, hmin, bracketed=None):
+def balance_residual(s_out, s_in, res_out, res_in, free_in, hmin):
     """Residual of the balance in position, in cells, on the resolved front cells: how far
     the balanced edge lies beyond the half cell the mask edge stands for,
     max(0, |s| − h/2)/h (outward on outer cells, inward on inner cells that may open:
-    ``free_in``).  A front cell whose band cell just flipped back (``bracketed``: one state
-    closes it, the next opens it) has its balanced edge inside that cell: residual ½ at
-    most.  Returns (max residual, the residuals of the tested front cells)."""
-    r_out = np.maximum(0.0, s_out - 0.5 * hmin) / hmin
-    r_in = np.maximum(0.0, -s_in - 0.5 * hmin) / hmin
-    if bracketed is not None:
-        r_out = np.where(bracketed, np.minimum(r_out, 0.5), r_out)
-        r_in = np.where(bracketed, np.minimum(r_in, 0.5), r_in)
-    r = np.concatenate([r_out[res_out], r_in[res_in & free_in]])
+    ``free_in``).  Returns (max residual, the residuals of the tested front cells)."""
+    r_out = np.maximum(0.0, s_out[res_out] - 0.5 * hmin) / hmin
+    r_in = np.maximum(0.0, -s_in[res_in & free_in] - 0.5 * hmin) / hmin
+    r = np.concatenate([r_out, r_in])
     r = np.where(np.isnan(r), np.inf, r)  # an untested front cell is not balanced
     return (float(r.max()) if r.size else 0.0), r
 
 
 def _bracketed(tests, add, remove, last_change):
-    """Front cells whose band cells flip back this iteration (2-cycle): their balanced edge
-    lies inside the flipping cell."""
+    """Front cells whose band cells flip back this iteration (a 2-cycle: one state closes the
+    cell, the next opens it): their balanced edge lies inside the flipping cell, so its
+    position is that cell's centre to ± h/2 (residual 0 by :func:`balance_residual`)."""
     b = tests.bands
     out = np.zeros(add.shape, bool)
     back_add = np.flatnonzero(add & last_change)
@@ -352,7 +348,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     delta = penetration
     p = np.zeros(cell.shape)
     p1 = None
-    corr, prev = 0.0, None  # load control: the front's mean pressure minus the mask's
+    corr = 0.0  # load control: the front's mean pressure minus the mask's
     osc = _Oscillation(cell.shape)
     opened = np.zeros(cell.shape, bool)  # cells the criterion has opened in this solve
     last_change = np.zeros(cell.shape, bool)
@@ -444,8 +440,11 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
         s_out, s_in = _held_offsets(s_out, s_in, outer, inner & held)
         add, remove = _moves(tests, mask, s_out, s_in, w, pinned, hmin)
         res_out, res_in = resolved_front(mask, outer, inner, a0, (cell.hx, cell.hy))
-        rmax, r = balance_residual(s_out, s_in, res_out, res_in, ~held, hmin,
-                                   _bracketed(tests, add, remove, last_change))
+        bracket = _bracketed(tests, add, remove, last_change)
+        # a bracketed edge lies inside its flipping cell: at that cell's centre ± h/2
+        s_out = np.where(bracket, np.clip(s_out, -0.5 * hmin, 0.5 * hmin), s_out)
+        s_in = np.where(bracket, np.clip(s_in, -0.5 * hmin, 0.5 * hmin), s_in)
+        rmax, r = balance_residual(s_out, s_in, res_out, res_in, ~held, hmin)
         frac = float(np.mean(r <= front_tol)) if r.size else 1.0
         history.append((it, int(mask.sum()), int(add.sum()), int(remove.sum()), float(delta)))
         load_ok, new_corr = True, corr
@@ -479,13 +478,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
             if it == max_outer:
                 message = f"not converged in {max_outer} outer iterations (load)"
                 break
-            # secant on g(c) = f(c) − c, the fixed point of the front's correction f (a
-            # plain update c ← f(c) overshoots where the front is stiff: rough patches)
-            g = new_corr - corr
-            if prev is not None and g != prev[1]:
-                corr, prev = corr - g * (corr - prev[0]) / (g - prev[1]), (corr, g)
-            else:
-                corr, prev = new_corr, (corr, g)
+            corr = new_corr
             osc.seen.clear()
             continue
         reason = osc.step(mask, add | remove)
@@ -496,7 +489,6 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
             break
         mask = (mask | add) & ~remove
         last_change = add | remove
-        prev = None  # the load correction's secant belongs to one mask
         # the tests and bands of the old mask: freed before the next state's solves
         tests = res_out = None
         opened |= remove

@@ -88,7 +88,7 @@ def test_scene_errors(kw, word):
 def test_no_lattice_trapping_and_first_order_convergence():
     """Elastic sinusoid at fixed load, approached from a smaller (loading) and a larger
     (unloading) contact, a0 = one cell: the sub-cell front carries the load, so both
-    approaches end at the same balanced edge (measured: 0.024 h, 0.0003 h, 0.006 h apart at
+    approaches end at the same balanced edge (measured: 0.024 h, 0.039 h, 0.006 h apart at
     256, 512, 1024 cells per wavelength — each state is balanced within FRONT_TOL of its own
     mask; the former ±0.6-cell dead band left the branches 0.3-0.6 h apart), and the
     sharp-crack edge converges to Johnson's ã at first order in h (measured errors +0.39 %,

@@ -307,6 +307,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     tc = np.zeros(idx.size)
     gc = np.empty(idx.size)
     G_old = 0.0  # the first direction is the gradient (β = 0)
+    c_self = None  # ⟨C δ, δ⟩, the self-compliance of a cell (a Jacobi step; computed once)
     err = np.inf
     gbar = 0.0
     message = f"not converged in {maxiter} iterations"
@@ -355,10 +356,24 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         G_old = G
         T = pl.forward_buffer()  # the plan's output buffer
         denom = kernels.parseval_sum(T, kn, mult)  # ⟨C t, t⟩ by Parseval
-        if not denom > 0:
+        if denom > 0:
+            tau = gc_tc / denom
+        elif n_ov and G == 0.0:
+            # the gradient vanishes on the contact set (one cell under load control: its
+            # mean-free gap is 0) while other cells overlap: no conjugate step exists, the
+            # overlapping cells join with a Jacobi step, τ = 1/C_ii (the self-compliance
+            # ⟨C δ, δ⟩ = Σ_q Ĉ/N): each joins with the pressure that alone would lift its
+            # overlap.  A spike (one cell above a flat surface) under load starts this way
+            T.fill(0.0)  # t = 0: the direction's transform, for the correction below
+            if c_self is None:
+                c_self = kernels.parseval_sum(np.ones_like(T), kn, mult)
+            tau = 1.0 / c_self
+            if not (math.isfinite(tau) and tau > 0):
+                message = f"search direction degenerate at iteration {it} (error {err:.3e})"
+                break
+        else:
             message = f"search direction degenerate at iteration {it} (error {err:.3e})"
             break
-        tau = gc_tc / denom
         # pc = pc_cur − τ·tc; its negative cells are clipped; total = Σ max(pc, 0)
         pc, n_clip, total = kernels.pk_step(pc_cur, tc, tau, clip_buf)
         ov = ov_buf[:n_ov]  # the joining cells (sorted)

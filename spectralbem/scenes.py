@@ -20,6 +20,8 @@ import copy
 import dataclasses
 import datetime as _dt
 import json
+import math
+import os
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -32,9 +34,28 @@ from .io import FIELDS, SCALARS, STATUS
 from .io import attrs as _attrs
 from .layers import GluedLayer, HalfSpace, PressureLayer
 from .materials import Elastic, Material, MaterialError, Prony, StandardLinearSolid, Tabulated
-from .schema import SceneError, validate
+from .schema import (
+    HEIGHT,
+    MODULUS,
+    SECTIONS,
+    SceneError,
+    short,
+    short_name,
+    too_deep,
+    validate,
+)
 from .spectral import Cell, GridError, SpectralOperator
-from .surfaces import SurfaceError, bisinusoid, paraboloid, read_heights, self_affine, sinusoid
+from .surfaces import (
+    MIN_FILE_LIMIT,
+    SurfaceError,
+    bisinusoid,
+    check_input_file,
+    file_limit,
+    paraboloid,
+    read_heights,
+    self_affine,
+    sinusoid,
+)
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -127,36 +148,65 @@ def _plain(x):
 
 
 # -- loading ---------------------------------------------------------------------------------
+#: the largest scene file read (a scene is a few hundred bytes; a long load path a few kB)
+SCENE_FILE_LIMIT = 16 * 2**20
+
+
 def read_scene_file(path) -> dict:
-    """Parse a TOML scene file (errors name the file and line)."""
+    """Parse a TOML scene file (errors name the file and line).  The file must be a regular
+    file (a FIFO or a device could block or never end) of at most 16 MiB, in UTF-8."""
     path = Path(path)
-    if not path.is_file():
-        raise SceneError(f"scene file {str(path)!r} does not exist")
+    name = short(str(path))
+    try:
+        check_input_file(path, "scene file", SCENE_FILE_LIMIT)
+    except SurfaceError as exc:
+        raise SceneError(str(exc)) from None
     try:
         with path.open("rb") as fh:
             return tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"scene file {str(path)!r} is not valid TOML: {exc}") from exc
+        raise SceneError(f"scene file {name} is not valid TOML: {exc}") from exc
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"scene file {name} is not valid UTF-8 (byte {exc.start}: "
+                         f"{exc.reason}); TOML files are UTF-8 text") from None
+    except RecursionError:
+        raise SceneError(f"scene file {name}: values nested too deeply; scene values are "
+                         "numbers, strings, booleans or lists of numbers") from None
+    except OSError as exc:
+        raise SceneError(f"scene file {name} cannot be read: {exc.strerror or exc}") from None
 
 
 def parse_value(text: str):
     """A command-line value: a TOML literal (number, string, list, boolean) or a bare word."""
     try:
-        return tomllib.loads(f"v = {text}")["v"]
+        v = tomllib.loads(f"v = {text}")["v"]
     except tomllib.TOMLDecodeError:
         return text
+    except RecursionError:
+        raise SceneError(f"value {short(text)}: nested too deeply; scene values are numbers, "
+                         "strings, booleans or lists of numbers") from None
+    if too_deep(v):
+        raise SceneError(f"value {short(text)}: nested too deeply; scene values are numbers, "
+                         "strings, booleans or lists of numbers")
+    return v
 
 
 def apply_overrides(raw: dict, overrides: dict | None) -> dict:
     """A copy of ``raw`` with ``{"section.key": value}`` set (sections are created)."""
+    deep = [s for s, v in (raw.items() if isinstance(raw, dict) else ()) if too_deep(v)]
+    deep += [k for k, v in (overrides or {}).items() if too_deep(v)]
+    if deep:  # before the copy below, which would recurse through them
+        raise SceneError([f"{short_name(k)}: nested too deeply; scene values are numbers, "
+                          "strings, booleans or lists of numbers" for k in deep])
     out = copy.deepcopy(raw)
     for dotted, value in (overrides or {}).items():
-        parts = dotted.split(".")
+        parts = str(dotted).split(".")
         if len(parts) != 2 or not all(parts):
-            raise SceneError(f"{dotted}: an override key must be 'section.key'")
+            raise SceneError(f"{short_name(dotted)}: an override key must be 'section.key'")
         sec = out.setdefault(parts[0], {})
         if not isinstance(sec, dict):
-            raise SceneError(f"{parts[0]}: is not a table, cannot set {dotted}")
+            raise SceneError(f"{short_name(parts[0])}: is not a table, cannot set "
+                             f"{short_name(dotted)}")
         sec[parts[1]] = value
     return out
 
@@ -180,6 +230,63 @@ def load_scene(source, *, overrides: dict | None = None, base_dir=None) -> Scene
     return _build_physical(spec, base)
 
 
+#: peak memory of a grid solve per cell (bytes): the peak resident size above the imported
+#: package, measured at 512² and 1024² (Polonsky–Keer 200, the viscoelastic active set 345,
+#: the adhesive front iteration 460 B/cell), with a margin of 1.4
+SOLVE_BYTES_PER_CELL = {"elastic": 280, "viscoelastic": 480, "adhesive": 650}
+#: the fields a dataset keeps of each state (five float64 fields and the int8 mask)
+FIELD_BYTES_PER_CELL = 41
+#: the interpreter with numpy, scipy, xarray and the compiled kernels loaded (measured 220 MB)
+BASE_BYTES = 300 * 2**20
+
+
+def machine_memory() -> int:
+    """The machine's physical memory (bytes), or the cgroup's limit when that is lower."""
+    total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    for f in ("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"):
+        try:
+            v = Path(f).read_text().strip()
+        except OSError:
+            continue
+        if v.isdigit() and 0 < int(v) < total:
+            total = int(v)
+    return int(total)
+
+
+def memory_estimate(n_cells: int, *, model: str = "grid2d", viscoelastic: bool = False,
+                    adhesive: bool = False, steps: int = 1, fields: bool = True) -> int:
+    """Estimated peak memory (bytes) of solving a scene on ``n_cells`` grid cells: the solver's
+    arrays (:data:`SOLVE_BYTES_PER_CELL`), the GMRES fallback's Krylov basis of a
+    viscoelastic (non-symmetric) solve (masked.RESTART_BYTES, at least 60 vectors), the
+    fields the dataset keeps of every path step, and the interpreter.  The 1D method only
+    samples the profile on the grid."""
+    from .masked import RESTART_BYTES, RESTART_MAX
+
+    n = int(n_cells)
+    if model == "sinusoid1d":
+        return BASE_BYTES + 16 * n
+    kind = "adhesive" if adhesive else ("viscoelastic" if viscoelastic else "elastic")
+    est = BASE_BYTES + SOLVE_BYTES_PER_CELL[kind] * n
+    if viscoelastic:
+        est += max(min(RESTART_BYTES, 8 * n * RESTART_MAX), 8 * n * 60)
+    if fields:
+        est += FIELD_BYTES_PER_CELL * n * max(1, int(steps))
+    return int(est)
+
+
+def _check_memory(keys: str, shape: tuple, **kw) -> None:
+    """Refuse, before any work, a solve whose memory estimate exceeds the machine's memory."""
+    n = int(shape[0]) * int(shape[1])
+    est, mem = memory_estimate(n, **kw), machine_memory()
+    if est <= mem:
+        return
+    per = (memory_estimate(2**20, **kw) - memory_estimate(0, **kw)) / 2**20
+    fit = max(0, int((mem - memory_estimate(0, **kw)) / per))
+    raise SceneError(f"{keys}: {shape[0]} × {shape[1]} = {n} cells need an estimated "
+                     f"{est / 2**30:.1f} GiB for this solve, more than the machine's memory "
+                     f"({mem / 2**30:.1f} GiB); allowed at most about {fit} cells here")
+
+
 def _build_seed(spec: dict) -> Scene:
     s = spec["sinusoid"]
     model = spec["scene"]["model"]
@@ -192,6 +299,9 @@ def _build_seed(spec: dict) -> Scene:
                                                                       s["delta_tilde"])
     values = ctl[1] if isinstance(ctl[1], list) else [ctl[1]]
     n, ny = s["cells_per_wavelength"], s["ny"]
+    _check_memory("sinusoid.cells_per_wavelength × sinusoid.ny", (n, ny), model=model,
+                  viscoelastic=s["zeta"] > 0 and s["beta"] > 1, adhesive=s["Gamma"] > 0,
+                  steps=len(values))
     lam = 2 * np.pi
     cell = Cell(lam, lam / n * ny, n, ny)
     from .sinusoid1d import dimensionless_material
@@ -221,10 +331,26 @@ def _material(m: dict, base: Path, problems: list) -> Material | None:
             return StandardLinearSolid(m["E0"], m["Einf"], m["tau"], m["nu"])
         if k == "prony":
             return Prony(m["E_eq"], tuple(m["moduli"]), tuple(m["times"]), m["nu"])
-        return Tabulated.from_csv(base / m["path"], nu=m["nu"])
-    except MaterialError as exc:
-        problems.append(f"material: {exc}")
+        path = check_input_file(base / m["path"], "modulus table", MIN_FILE_LIMIT)
+        table = Tabulated.from_csv(path, nu=m["nu"])
+    except SurfaceError as exc:
+        problems.append(f"material.path: {exc}")
         return None
+    except MaterialError as exc:
+        problems.append(f"material: {str(exc)[:300]}")
+        return None
+    except (ValueError, RecursionError) as exc:  # e.g. not UTF-8 text
+        problems.append(f"material.path: cannot read modulus table {short(m['path'])}: "
+                        f"{str(exc)[:200]}")
+        return None
+    lo, hi = MODULUS
+    moduli = np.abs(np.concatenate([table.storage, table.loss]))
+    if table.storage[0] < lo or moduli.max() > hi:
+        problems.append(f"material.path: the moduli of {short(m['path'])} span "
+                        f"[{min(table.storage):g}, {moduli.max():g}] Pa; allowed E' in "
+                        f"[{lo:g}, {hi:g}] Pa and |E''| ≤ {hi:g} Pa")
+        return None
+    return table
 
 
 def _check_penetration(layer, nu, h, values):
@@ -255,9 +381,10 @@ def _heights(sf: dict, g: dict, cell: Cell, base: Path, problems: list):
                                cutoff=2 * np.pi / sf["cutoff_wavelength"],
                                rms_height=sf["rms_height"],
                                rms_slope=sf["rms_slope"], seed=sf["seed"])
-        h, size = read_heights(base / sf["path"], variable=sf["variable"], scale=sf["scale"])
+        h, size = read_heights(base / sf["path"], variable=sf["variable"], scale=sf["scale"],
+                               max_bytes=file_limit(cell.Nx * cell.Ny))
     except SurfaceError as exc:
-        problems.append(f"surface: {exc}")
+        problems.append(f"surface{'.path' if k == 'file' else ''}: {exc}")
         return None
     if h.shape != cell.shape:
         problems.append(f"surface.path: the height map has shape {h.shape}, the grid is "
@@ -272,6 +399,10 @@ def _heights(sf: dict, g: dict, cell: Cell, base: Path, problems: list):
     if bad.any():
         problems.append(f"surface.path: the height map has {int(bad.sum())} non-finite values "
                         f"(first at index {tuple(int(i) for i in np.argwhere(bad)[0])})")
+        return None
+    if float(np.abs(h).max()) > HEIGHT[1]:
+        problems.append(f"surface.path: heights × surface.scale reach {float(np.abs(h).max()):g} "
+                        f"m; allowed within ±{HEIGHT[1]:g} m (check surface.scale)")
         return None
     return h
 
@@ -302,6 +433,71 @@ def _velocity(mot: dict) -> tuple:
     return (float(vx) if abs(vx) > 1e-15 * s else 0.0, float(vy) if abs(vy) > 1e-15 * s else 0.0)
 
 
+def _dgamma_map(adh: dict, cell: Cell, base: Path, problems: list):
+    """The per-cell Δγ map (J/m²) of ``adhesion.dgamma_map``: a regular .npy file holding a
+    real array of the grid's shape, values 0 or in the range of ``adhesion.dgamma``."""
+    name = short(adh["dgamma_map"])
+    key = SECTIONS["adhesion"]["dgamma"]
+    try:
+        path = check_input_file(base / adh["dgamma_map"], "Δγ map",
+                                file_limit(cell.Nx * cell.Ny))
+        dg = np.load(path, allow_pickle=False)
+    except SurfaceError as exc:
+        problems.append(f"adhesion.dgamma_map: {exc}")
+        return None
+    except (OSError, ValueError, EOFError) as exc:
+        problems.append(f"adhesion.dgamma_map: cannot read {name}: {str(exc)[:200]}")
+        return None
+    if not isinstance(dg, np.ndarray):  # an .npz archive
+        dg.close()
+        problems.append(f"adhesion.dgamma_map: {name} is an .npz archive; give one array "
+                        f"as .npy (shape (Nx, Ny) = {cell.shape}, J/m²)")
+        return None
+    if not (np.issubdtype(dg.dtype, np.integer) or np.issubdtype(dg.dtype, np.floating)):
+        problems.append(f"adhesion.dgamma_map: {name} holds {dg.dtype} values; give real "
+                        "numbers in J/m²")
+        return None
+    dg = dg.astype(float)
+    if dg.shape != cell.shape:
+        problems.append(f"adhesion.dgamma_map: shape {dg.shape} differs from the grid "
+                        f"{cell.shape}")
+        return None
+    ok = np.isfinite(dg) & (dg >= key.lo) & (dg <= key.hi)
+    if not ok.all():
+        i = tuple(int(j) for j in np.argwhere(~ok)[0])
+        problems.append(f"adhesion.dgamma_map: {int((~ok).sum())} values outside the allowed "
+                        f"range {key.range_text()} J/m² (first {dg[i]!r} at index {i})")
+        return None
+    return dg
+
+
+def _one_d_ranges(scene: Scene) -> list:
+    """The dimensionless groups of a physical sinusoid scene outside the 1D method's ranges
+    (those of the seed scene's [sinusoid] section), each with the keys it comes from."""
+    d = _dimensionless_groups(scene)
+    spec = SECTIONS["sinusoid"]
+    src_k = "surface.wavelength (default grid.Lx)"
+    groups = [("zeta", d["zeta"], "ζ = k v τ", f"motion, material.tau, {src_k}"),
+              ("beta", d["beta"], "β = E∞/E0", "material.Einf, material.E0"),
+              ("Gamma", d["Gamma"], "Γ = (1-ν²)Δγ/(π E0* k Λ²)",
+               f"adhesion.dgamma, material, surface.amplitude, {src_k}"),
+              ("a0_tilde", d["a0_tilde"], "ã0 = k a0", f"adhesion.a0, {src_k}")]
+    name, vals = scene.control
+    if name == "mean_pressure":
+        groups += [("p_tilde", v / d["pstar"], "p̃ = p/p*", "control.mean_pressure")
+                   for v in vals]
+    else:
+        groups += [("delta_tilde", v / d["amp"], "Δ̃ = Δ/Λ", "control.penetration")
+                   for v in vals]
+    why = []
+    for key, x, label, src in groups:
+        k = spec[key]
+        if not (math.isfinite(x) and k.allows(x)):
+            why.append(f"{label} = {x:.6g} (from {src}) is outside the 1D method's range "
+                       f"{k.range_text()}")
+    return why
+
+
 def _build_physical(spec: dict, base: Path) -> Scene:
     problems: list[str] = []
     g = spec["grid"]
@@ -310,20 +506,6 @@ def _build_physical(spec: dict, base: Path) -> Scene:
     except GridError as exc:
         raise SceneError(f"grid: {exc}") from exc
     mat = _material(spec["material"], base, problems)
-    h = _heights(spec["surface"], g, cell, base, problems)
-    adh = spec["adhesion"]
-    dgamma = adh["dgamma"]
-    if adh["dgamma_map"] is not None:
-        try:
-            dgamma = np.load(base / adh["dgamma_map"], allow_pickle=False).astype(float)
-        except (OSError, ValueError, EOFError) as exc:
-            problems.append(f"adhesion.dgamma_map: cannot read {adh['dgamma_map']!r}: {exc}")
-            dgamma = None
-        if dgamma is not None and dgamma.shape != cell.shape:
-            problems.append(f"adhesion.dgamma_map: shape {dgamma.shape} differs from the grid "
-                            f"{cell.shape}")
-        elif dgamma is not None and (not np.all(np.isfinite(dgamma)) or np.any(dgamma < 0)):
-            problems.append("adhesion.dgamma_map: values must be finite and ≥ 0 J/m²")
     model = spec["scene"]["model"]
     if mat is not None and model != "grid2d":
         why = _one_d_obstacles(spec, mat)
@@ -331,20 +513,39 @@ def _build_physical(spec: dict, base: Path) -> Scene:
             problems.append("scene.model: 'sinusoid1d' is not possible: " + "; ".join(why)
                             + " (allowed: auto, grid2d)")
         model = "sinusoid1d" if not why else "grid2d"
-    if problems:
-        raise SceneError(problems)
-    ctl = spec["control"]
+    adh, ctl = spec["adhesion"], spec["control"]
     name = "mean_pressure" if ctl["mean_pressure"] is not None else "penetration"
     values = ctl[name] if isinstance(ctl[name], list) else [ctl[name]]
+    velocity = _velocity(spec["motion"])
+    memory = dict(viscoelastic=not isinstance(mat, Elastic) and any(velocity),
+                  adhesive=adh["dgamma"] > 0 or adh["dgamma_map"] is not None,
+                  steps=len(values), fields=spec["output"]["fields"])
+    _check_memory("grid.Nx × grid.Ny", cell.shape, model=model, **memory)  # before any work
+    h = _heights(spec["surface"], g, cell, base, problems)
+    dgamma = adh["dgamma"]
+    if adh["dgamma_map"] is not None:
+        dgamma = _dgamma_map(adh, cell, base, problems)
+    if problems:
+        raise SceneError(problems)
     layer = _layer(spec["layer"])
+    scene = Scene(cell, mat, h, velocity, dgamma, adh["a0"] or 0.0,
+                  values[0] if name == "mean_pressure" else None,
+                  values[0] if name == "penetration" else None, "physical",
+                  {"name": spec["scene"]["name"]}, layer, model, spec,
+                  dict(spec["solver"]), spec["output"]["fields"], (name, list(values)),
+                  adh.get("flaw_radius"))
+    if model == "sinusoid1d":
+        why = _one_d_ranges(scene)
+        if why and spec["scene"]["model"] == "sinusoid1d":
+            raise SceneError(["scene.model: 'sinusoid1d' cannot solve this scene: " + w
+                              + " (allowed models: auto, grid2d)" for w in why])
+        if why:  # 'auto' picks the 1D method only for a scene it can solve
+            model = "grid2d"
+            _check_memory("grid.Nx × grid.Ny", cell.shape, model=model, **memory)
+            scene = dataclasses.replace(scene, model=model)
     if name == "penetration" and model == "grid2d":
         _check_penetration(layer, mat.nu, h, values)
-    return Scene(cell, mat, h, _velocity(spec["motion"]), dgamma, adh["a0"] or 0.0,
-                 values[0] if name == "mean_pressure" else None,
-                 values[0] if name == "penetration" else None, "physical",
-                 {"name": spec["scene"]["name"]}, layer, model, spec,
-                 dict(spec["solver"]), spec["output"]["fields"], (name, list(values)),
-                 adh.get("flaw_radius"))
+    return scene
 
 
 def _edges_y_invariant(mask, offset, cell):
@@ -374,13 +575,83 @@ SEED_EXTRA = {
 }
 
 
+#: the states whose status promises a verified equilibrium (every other is not_converged)
+REPORTED = ("partial", "full_contact", "detached")
+
+
+def quotient(num: float, den: float, num_scale: float = 0.0, den_scale: float = 0.0) -> float:
+    """num/den with the 1D method's convention at no load (sinusoid1d._quotient): 0/0 = 0 (no
+    force at no load), ±inf for a finite numerator over 0.  A value within 1e-9 of its scale
+    (the sum of the magnitudes it came from) counts as 0: round-off of a vanishing sum."""
+    if abs(den) > 1e-9 * den_scale and den != 0.0:
+        return num / den
+    return 0.0 if abs(num) <= 1e-9 * num_scale else math.copysign(math.inf, num)
+
+
+def _friction(op, h, p, u) -> dict:
+    """contact.friction, with :func:`quotient`'s convention where the net normal force
+    vanishes (a detached state, an adhesive contact at zero load): never nan."""
+    from .contact import friction
+
+    fr = friction(op, h, p, u)
+    if not any(np.isnan(v) for v in fr.values()):
+        return fr
+    cell = op.cell
+    vhat = sliding_direction(op)
+    vperp = np.array([-vhat[1], vhat[0]])
+    du, dl, dh = (cell.derivative(u, vhat), cell.derivative(u, vperp),
+                  cell.derivative(h, vhat))
+    ap = np.abs(p)
+    forces = dict(mu=(-float(np.sum(p * du)), float(np.sum(ap * np.abs(du)))),
+                  mu_lateral=(-float(np.sum(p * dl)), float(np.sum(ap * np.abs(dl)))),
+                  mu_profile=(-float(np.sum(p * dh)), float(np.sum(ap * np.abs(dh)))))
+    fd = op.dissipation_friction_force(p, vhat) / cell.cell_area if ap.any() else 0.0
+    forces["mu_dissipation"] = (fd, forces["mu"][1])
+    total, tscale = float(np.sum(p)), float(np.sum(ap))
+    return {k: quotient(f, total, fs, tscale) for k, (f, fs) in forces.items()}
+
+
+def _verify(status: str, message: str, scene: Scene, mask) -> tuple:
+    """A status is a promise: (status, message) after the checks a reported state must pass.
+    ``detached`` needs a zero pressure field that carries the prescribed load and leaves no
+    interpenetration: no compressive load, Δ ≤ 0; an adhesiveless solve that converged
+    without a contact cell is that state."""
+    if status == "partial" and not np.any(mask):
+        status = "detached"
+    if status != "detached":
+        return status, message
+    seed = scene.kind == "sinusoid"
+    if scene.p_mean is not None and scene.p_mean > 0:
+        load = f"p̃ = {scene.p_mean / 0.5:g}" if seed else f"{scene.p_mean:g} Pa"
+        return "not_converged", (f"no equilibrium found: the contact vanished under the "
+                                 f"compressive mean pressure {load}, which a detached state "
+                                 f"cannot carry (solver: {message})")
+    if scene.delta is not None and scene.delta > 0:
+        pen = f"Δ̃ = {scene.delta:g}" if seed else f"{scene.delta:g} m"
+        return "not_converged", (f"no equilibrium found: the contact vanished at the "
+                                 f"penetration {pen} > 0, where a detached state "
+                                 f"interpenetrates (solver: {message})")
+    return status, message
+
+
+def _undefined(status: str, message: str, scalars: dict, skip=()) -> tuple:
+    """A reported state with a nan scalar is not a verified state: not_converged, naming
+    them (the conventions above leave none in a sound state)."""
+    bad = [k for k, v in scalars.items() if k not in skip and isinstance(v, float)
+           and math.isnan(v)]
+    if status in REPORTED and bad:
+        return "not_converged", (f"the state's {', '.join(bad)} are undefined (nan), so it "
+                                 f"is not reported as {status}; solver: {message}")
+    return status, message
+
+
 def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
     """The seed scene on the grid: the 1D method's dimensionless names."""
     import xarray as xr
 
     from . import front
     from .adhesive import solve_adhesive
-    from .contact import friction, solve_contact
+    from .contact import solve_contact
 
     op = _operator(scene)
     cell, h = scene.cell, scene.heights
@@ -418,8 +689,8 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
                 _, dUc, _, Ac, _ = r.tests.closing[ci]
                 _, dUo, _, Ao, _ = r.tests.opening[ci]
                 col = r.tests.colour_map[ci]
-                s = float(np.nanmean(np.where(col & np.isfinite(r.offset_out), r.offset_out,
-                                              np.nan)))
+                sel = col & np.isfinite(r.offset_out)  # no balanced edge: s, G undefined
+                s = float(r.offset_out[sel].mean()) if sel.any() else np.nan
                 Gc, Go = dUc / Ac, dUo / Ao
                 # G at the balanced edge: the closing (opening) band's value stands at its
                 # start x_b (x_b − a0) in the seed's definition, at its midpoint when the edge
@@ -428,8 +699,10 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
             # integrated quantities at the sub-cell front (first order in offset/a0)
             at_front = front.at_front(r.tests, r.offset_out,
                                       {k: float(np.sum(p * f)) for k, f in obs.items()}, a0e)
-            out["mu_bar_front"] = at_front["force"] / at_front["load"]
-            out["mu_bar_lateral_front"] = at_front["lateral"] / at_front["load"]
+            scale = {k: float(np.sum(np.abs(p * f))) for k, f in obs.items()}
+            for k in ("force", "lateral"):
+                out[f"mu_bar_{k}_front"] = quotient(at_front[k], at_front["load"], scale[k],
+                                                    scale["load"])
             if len(G) == 1:
                 G = G * 2
             # colour 0 is trailing (v̂·n < 0); for elastic scenes one colour for both edges
@@ -439,6 +712,8 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
             out.update(G1_over_dgamma=np.nan, G2_over_dgamma=np.nan)
         info = dict(outer_iterations=r.outer_iterations, solves=r.solves, message=r.message,
                     balanced_fraction=r.balanced_fraction, front_residual=r.residual)
+        if status in ("detached", "full_contact"):  # no front: nothing unbalanced
+            info.update(balanced_fraction=1.0, front_residual=0.0)
     else:
         res = solve_contact(op, h, mean_pressure=scene.p_mean,
                             penetration=scene.delta, tol=rtol,
@@ -452,23 +727,36 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
             l1, l2 = _edges_y_invariant(mask, zeros, cell)
         out.update(G1_over_dgamma=np.nan, G2_over_dgamma=np.nan)
         info = dict(iterations=res.iterations, message=res.message)
-    fr = friction(op, h, p, u)
+    status, info["message"] = _verify(status, info["message"], scene, mask)
+    if status == "detached":  # the zero field, no edge (the 1D method's values)
+        p, u, l1, l2 = np.zeros(cell.shape), np.zeros(cell.shape), 0.0, 0.0
+    elif status == "full_contact":
+        l1 = l2 = np.pi
+    if status in ("detached", "full_contact") or not scene.adhesive:
+        out.update(G1_over_dgamma=0.0, G2_over_dgamma=0.0)  # no edge, or no adhesion
+    fr = _friction(op, h, p, u)
     pm = out.pop("p_front", float(p.mean()))
-    mu = out.pop("mu_bar_front", fr["mu_profile"])
+    mu = out.pop("mu_bar_force_front", fr["mu_profile"])
     mu_lat = out.pop("mu_bar_lateral_front", fr["mu_lateral"])
     out.update(a_tilde=(l1 + l2) / 2, e_tilde=(l2 - l1) / 2, p_tilde=pm / pstar,
                delta_tilde=float(delta), mu_bar=mu, mu_bar_mask=fr["mu_profile"],
                mu_bar_dissipation=fr["mu_dissipation"], mu_bar_lateral=mu_lat)
     G1, G2 = out["G1_over_dgamma"], out["G2_over_dgamma"]
-    out["mu_bar_adhesive"] = ((G1 - G2) * scene.dgamma / (cell.Lx * pm)
-                              if scene.dgamma > 0 and pm != 0 else np.nan)
+    out["mu_bar_adhesive"] = 0.0 if G1 == G2 == 0.0 else quotient(
+        (G1 - G2) * scene.dgamma, cell.Lx * pm, (abs(G1) + abs(G2)) * scene.dgamma,
+        cell.Lx * float(np.abs(p).mean()))
+    status, info["message"] = _undefined(status, info["message"], out)
+    if status == "partial" and not out["a_tilde"] > 0:
+        status, info["message"] = "not_converged", (
+            f"the contact edges give ã = {out['a_tilde']!r} ≤ 0, so the state is not "
+            f"reported as partial; solver: {info['message']}")
     from .sinusoid1d import SCALARS as names
 
     names = {**names, **SEED_EXTRA}
     data = {k: ((), float(v), {"units": "1", "long_name": names.get(k, k)})
             for k, v in out.items()}
     data["status"] = ((), status, {"long_name": "partial | full_contact | detached | "
-                                                "not_converged"})
+                                                "not_converged", "units": "1"})
     data["pressure_tilde"] = (("x", "y"), p / pstar, {"long_name": "p/p*", "units": "1"})
     data["contact"] = (("x", "y"), mask.astype(np.int8), {"long_name": "contact mask",
                                                           "units": "1"})
@@ -505,7 +793,7 @@ def _solve_grid(scene: Scene, mask0=None):
     import xarray as xr
 
     from .adhesive import solve_adhesive
-    from .contact import friction, solve_contact
+    from .contact import solve_contact
     from .front import front_outputs
 
     op = _operator(scene)
@@ -535,12 +823,23 @@ def _solve_grid(scene: Scene, mask0=None):
                   balanced_fraction=r.balanced_fraction, front_residual=r.residual)
         area = None
         pm = r.mean_pressure
+        status, msg = _verify(status, msg, scene, mask)
         if status == "partial" and r.tests is not None:
             fo = front_outputs(op, r, scene.dgamma)
             area = fo["area_fraction"]
-            sc.update(G1=fo["G1"], G2=fo["G2"], mu_adhesive=fo["mu_adhesive"],
+            mu_a = fo["mu_adhesive"]
+            if np.isnan(mu_a):  # no net normal force: 0 when G1 = G2, else ±inf (the sign
+                # of −∮(G − Δγ)(n·v̂)ds, that of G1 − G2)
+                mu_a = quotient(fo["G1"] - fo["G2"], 0.0, abs(fo["G1"]) + abs(fo["G2"]))
+            sc.update(G1=fo["G1"], G2=fo["G2"], mu_adhesive=mu_a,
                       front_length=fo["front_length"])
             fields["G_front"] = fo["G_map"]
+        elif status in ("detached", "full_contact"):  # no front (the 1D method's values)
+            sc.update(G1=0.0, G2=0.0, mu_adhesive=0.0, front_length=0.0,
+                      balanced_fraction=1.0, front_residual=0.0)
+            if status == "detached":
+                p, mask, u = np.zeros(cell.shape), np.zeros(cell.shape, bool), np.zeros(
+                    cell.shape)
         else:
             sc.update(G1=np.nan, G2=np.nan, mu_adhesive=np.nan, front_length=np.nan)
         diag = {"a0": r.a0, "edge_shift": r.edge_shift,
@@ -553,14 +852,16 @@ def _solve_grid(scene: Scene, mask0=None):
         status = ("full_contact" if res.full_contact else "partial") if res.converged else (
             "not_converged")
         msg = res.message
+        status, msg = _verify(status, msg, scene, mask)
         sc.update(iterations=res.iterations)
         area, pm = None, float(p.mean())
         diag = {"method": res.method, **res.diagnostics}
     w = h - float(h.max()) + delta
     gap = np.where(mask, 0.0, u - w)
-    fr = friction(op, h, p, u)
+    fr = _friction(op, h, p, u)
     sc.update(mean_pressure=pm, penetration=float(delta),
               area_fraction=float(mask.mean()) if area is None else area, **fr)
+    status, msg = _undefined(status, msg, sc)
     data = {k: ((), float(v), _attrs(SCALARS[k]))
             for k, v in sc.items()}
     data["status"] = ((), status, _attrs(STATUS))
@@ -638,7 +939,10 @@ def _solve_one(scene: Scene, state):
         return ds, ((ds.attrs["l1_tilde"], ds.attrs["l2_tilde"]) if ok else None)
     if scene.kind == "sinusoid":
         ds = _solve_seed_grid(scene, mask0=state, rtol=scene.solver["tol"])
-        return ds, ds.contact.values.astype(bool) if "contact" in ds else None
+        mask = ds.contact.values.astype(bool) if "contact" in ds else None
+        # a detached state carries nothing: the next step starts afresh (an empty mask
+        # would be 'detached' at once, whatever the load)
+        return ds, mask if mask is not None and mask.any() else None
     ds, mask = _solve_grid(scene, mask0=state)
     return ds, (mask if scene.adhesive and mask.any() and not mask.all() else None)
 

@@ -22,12 +22,57 @@ from dataclasses import dataclass
 
 REQUIRED = object()
 
+#: longest text of a value or a name quoted in a message (longer ones are cut, their length
+#: stated); scene values are at most this deep (a table of sections, a list of numbers)
+SHORT = 60
+MAX_DEPTH = 6
+
+
+def short(v, limit: int = SHORT) -> str:
+    """A value as messages quote it: repr, with long strings, long lists and deep nesting cut
+    (a 200 kB value is not echoed back whole)."""
+    import reprlib
+
+    r = reprlib.Repr()
+    r.maxstring = r.maxother = limit
+    r.maxlist = r.maxdict = r.maxtuple = 8
+    r.maxlevel = 3
+    text = r.repr(v)
+    if isinstance(v, str) and len(v) > limit:
+        text += f" ({len(v)} characters)"
+    elif isinstance(v, (list, dict)) and len(v) > 8:
+        text += f" ({len(v)} entries)"
+    return text
+
+
+def short_name(name: str, limit: int = SHORT) -> str:
+    """A key or section name as messages quote it (cut when longer than ``limit``)."""
+    name = str(name)
+    return name if len(name) <= limit else f"{name[:limit]}... ({len(name)} characters)"
+
+
+def too_deep(v, limit: int = MAX_DEPTH) -> bool:
+    """Whether lists/tables nest deeper than ``limit`` (checked without recursion, so a
+    100 000-deep array is refused instead of exhausting the interpreter's stack)."""
+    stack = [(v, 0)]
+    while stack:
+        x, d = stack.pop()
+        if isinstance(x, (list, tuple, dict)):
+            if d >= limit:
+                return True
+            stack.extend((y, d + 1) for y in (x.values() if isinstance(x, dict) else x))
+    return False
+
 
 class SceneError(ValueError):
     """Invalid scene: the message lists every problem, one per line, with its key path."""
 
     def __init__(self, problems):
-        self.problems = list(problems) if not isinstance(problems, str) else [problems]
+        problems = list(problems) if not isinstance(problems, str) else [problems]
+        # a safety net for messages that quote a value without short(): no line is longer
+        # than this (the key path comes first, so it survives)
+        self.problems = [p if len(p) <= 400 else f"{p[:400]}... ({len(p)} characters)"
+                         for p in map(str, problems)]
         n = len(self.problems)
         head = "invalid scene" if n == 1 else f"invalid scene ({n} problems)"
         super().__init__(head + ":\n  " + "\n  ".join(self.problems))
@@ -45,6 +90,7 @@ class Key:
     lo_open: bool = False  # lo itself is excluded
     choices: tuple = ()
     default: object = REQUIRED
+    tiny: float | None = None  # smallest magnitude allowed besides 0 (None: no floor)
 
     def range_text(self) -> str:
         if self.choices:
@@ -53,11 +99,39 @@ class Key:
             return "any finite value" if self.type.startswith("number") else ""
         lo = "-inf" if self.lo is None else f"{self.lo:g}"
         hi = "inf" if self.hi is None else f"{self.hi:g}"
+        if self.tiny is not None:  # 0, or a magnitude in [tiny, ...]
+            t = f"{self.tiny:g}"
+            if self.lo is not None and self.lo < 0:
+                return f"0 or ±[{t}, {hi}]" if -self.lo == self.hi else (
+                    f"[{lo}, -{t}], 0 or [{t}, {hi}]")
+            return f"0 or [{t}, {hi}]"
         return f"{'(' if self.lo_open else '['}{lo}, {hi}]"
 
+    def allows(self, x: float) -> bool:
+        """Whether the finite number ``x`` lies in the allowed range."""
+        if (self.lo is not None and (x <= self.lo if self.lo_open else x < self.lo)) or (
+                self.hi is not None and x > self.hi):
+            return False
+        return self.tiny is None or x == 0 or abs(x) >= self.tiny
 
-def _k(type_, doc, units="", lo=None, hi=None, lo_open=False, choices=(), default=REQUIRED):
-    return Key(type_, doc, units, lo, hi, lo_open, tuple(choices), default)
+
+def _k(type_, doc, units="", lo=None, hi=None, lo_open=False, choices=(), default=REQUIRED,
+       tiny=None):
+    return Key(type_, doc, units, lo, hi, lo_open, tuple(choices), default, tiny)
+
+
+#: magnitude ranges of physical inputs (SI): wide enough for any continuum contact problem,
+#: narrow enough that no product or quotient of them over- or underflows a double (values
+#: such as 5e-324 or 1e308 gave "float division by zero", "Numerical result out of range" or
+#: a singular matrix deep inside a solve)
+LENGTH = (1e-9, 1e3)  # m: cell sizes, wavelengths, radii
+HEIGHT = (1e-12, 1e3)  # m: amplitudes, rms heights, layer thicknesses
+MODULUS = (1.0, 1e13)  # Pa
+TIME = (1e-12, 1e12)  # s
+#: the largest ratio E∞/E0 (the seed's β range): the kernel then spans 8 decades
+STIFFENING = 1e8
+#: the smallest relative tolerance of the solves that double precision can reach
+TOL_MIN = 1e-14
 
 
 # -- sections without kinds ------------------------------------------------------------------
@@ -71,22 +145,24 @@ SECTIONS = {
                     choices=("auto", "grid2d", "sinusoid1d"), default="auto"),
     },
     "grid": {
-        "Lx": _k("number", "periodic cell length along x", "m", 0, None, True),
-        "Ly": _k("number", "periodic cell length along y", "m", 0, None, True),
-        "Nx": _k("integer", "cells along x (not only powers of two)", "", 8, 65536),
+        "Lx": _k("number", "periodic cell length along x", "m", *LENGTH),
+        "Ly": _k("number", "periodic cell length along y", "m", *LENGTH),
+        "Nx": _k("integer", "cells along x (not only powers of two; the solve's memory "
+                 "estimate must fit the machine)", "", 8, 65536),
         "Ny": _k("integer", "cells along y (1 for a y-invariant strip)", "", 1, 65536),
     },
     "adhesion": {
         "dgamma": _k("number", "work of adhesion Δγ (0: adhesiveless)", "J/m²", 0, 1e6,
                      default=0.0),
-        "dgamma_map": _k("path", "per-cell Δγ map (.npy, shape (Nx, Ny), J/m²); replaces "
-                         "dgamma", default=None),
+        "dgamma_map": _k("path", "per-cell Δγ map (.npy, shape (Nx, Ny), J/m², values in "
+                         "[0, 1e6]); replaces dgamma", default=None),
         "a0": _k("number", "advance width of the edge energy balance (a process-zone "
                  "length; at least one cell, at most half the cell)", "m", 0, None, True,
                  default=None),
         "flaw_radius": _k("number", "radius of the flaw through which a full contact may "
                           "open (default: a0); in elastic scenes Griffith's condition on it "
-                          "decides", "m", 0, None, True, default=None),
+                          "decides; at most half the cell", "m", 0, None, True,
+                          default=None),
     },
     "motion": {
         "speed": _k("number", "sliding speed |v| of the indenter relative to the slab", "m/s",
@@ -99,15 +175,16 @@ SECTIONS = {
     "control": {
         "mean_pressure": _k("number_or_numbers", "mean (nominal) pressure, compressive "
                             "positive; a list is a load/unload path run in order", "Pa",
-                            -1e12, 1e12, default=None),
+                            -1e12, 1e12, default=None, tiny=1e-9),
         "penetration": _k("number_or_numbers", "penetration Δ (mean-level gauge); below "
                           "max h − mean h on a half-space, an A.5 layer or an incompressible "
                           "glued layer (their mean displacement is 0); a list is a path", "m",
-                          -1e3, 1e3, default=None),
+                          -1e3, 1e3, default=None, tiny=1e-15),
     },
     "solver": {
-        "tol": _k("number", "relative tolerance of the contact / Krylov solves", "", 0, 1e-2,
-                  True, default=1e-10),
+        "tol": _k("number", "relative tolerance of the contact / Krylov solves (not below "
+                  "1e-14: double precision cannot reach it)", "", TOL_MIN, 1e-2,
+                  default=1e-10),
         "max_iterations": _k("integer", "iteration guard of the contact solver", "", 1, 10**6,
                              default=10000),
         "max_outer": _k("integer", "iteration guard of the adhesive front iteration", "", 1,
@@ -132,17 +209,20 @@ SECTIONS = {
                      default=True),
     },
     "sinusoid": {
-        "zeta": _k("number", "ζ = k v τ (0: elastic E0 limit)", "1", 0, 1e12),
+        "zeta": _k("number", "ζ = k v τ (0: elastic E0 limit)", "1", 0, 1e12, tiny=1e-12),
         "beta": _k("number", "β = E∞/E0", "1", 1, 1e8),
-        "Gamma": _k("number", "Γ = (1-ν²)Δγ/(π E0 k Λ²) (0: adhesiveless)", "1", 0, 10),
+        "Gamma": _k("number", "Γ = (1-ν²)Δγ/(π E0 k Λ²) (0: adhesiveless)", "1", 0, 10,
+                    tiny=1e-12),
         "p_tilde": _k("number_or_numbers", "p̃∞ = p∞/p*, load control (a list is a path)", "1",
-                      -10, 100, default=None),
+                      -10, 100, default=None, tiny=1e-12),
         "delta_tilde": _k("number_or_numbers", "Δ̃ = Δ/Λ, displacement control", "1", -10, 10,
                           default=None),
-        "a0_tilde": _k("number", "ã0 = k a0, advance width (0: strict SIF limit, 1D only)",
-                       "1", 0, 1),
-        "cells_per_wavelength": _k("integer", "grid model: cells per wavelength", "", 16,
-                                   1 << 20, default=1024),
+        "a0_tilde": _k("number", "ã0 = k a0, advance width (0: strict SIF limit, 1D only; "
+                       "below 1e-6 the 1D method's quadrature cannot resolve it)", "1", 0, 1,
+                       tiny=1e-6),
+        "cells_per_wavelength": _k("integer", "grid model: cells per wavelength (at most the "
+                                   "grid's 65536 cells along x)", "", 16, 65536,
+                                   default=1024),
         "ny": _k("integer", "grid model: cells along y", "", 1, 4096, default=8),
         "direction_deg": _k("number", "grid model: sliding direction to the wave vector",
                             "deg", -360, 360, default=0.0),
@@ -153,73 +233,74 @@ SECTIONS = {
 KINDS = {
     "surface": {
         "sinusoid": {
-            "amplitude": _k("number", "Λ in h = Λ cos(2πx/λ), invariant along y", "m", 0,
-                            None, True),
+            "amplitude": _k("number", "Λ in h = Λ cos(2πx/λ), invariant along y", "m",
+                            *HEIGHT),
             "wavelength": _k("number", "λ; must divide Lx (default Lx)", "m", 0, None, True,
                              default=None),
         },
         "bisinusoid": {
-            "amplitude": _k("number", "Λ in h = Λ cos(2πx/Lx) cos(2πy/Ly)", "m", 0, None,
-                            True),
+            "amplitude": _k("number", "Λ in h = Λ cos(2πx/Lx) cos(2πy/Ly)", "m", *HEIGHT),
         },
         "paraboloid": {
             "radius": _k("number", "sphere radius R, h = -r²/(2R) about the cell centre", "m",
-                         0, None, True),
+                         *LENGTH),
         },
         "self_affine": {
             "hurst": _k("number", "Hurst exponent H", "", 0, 1, True),
-            "rolloff_wavelength": _k("number", "roll-off wavelength 2π/q_r", "m", 0, None,
-                                     True),
+            "rolloff_wavelength": _k("number", "roll-off wavelength 2π/q_r (at most the cell)",
+                                     "m", 0, None, True),
             "cutoff_wavelength": _k("number", "short cut-off wavelength 2π/q_s, physical (the "
                                     "surface is the same on every grid that holds it): "
                                     "longer than the grid's Nyquist wavelength (2 cells), "
                                     "shorter than rolloff_wavelength", "m", 0, None, True),
-            "rms_height": _k("number", "rms height (give this or rms_slope)", "m", 0, None,
-                             True, default=None),
-            "rms_slope": _k("number", "rms slope |∇h|", "", 0, 100, True, default=None),
+            "rms_height": _k("number", "rms height (give this or rms_slope)", "m", *HEIGHT,
+                             default=None),
+            "rms_slope": _k("number", "rms slope |∇h|", "", 1e-9, 100, default=None),
             "seed": _k("integer", "random seed (reproducible surfaces)", "", 0, 2**63 - 1,
                        default=0),
         },
         "file": {
             "path": _k("path", "height map: .npy, .txt/.csv matrix, .nc, or an instrument "
                        "format read by SurfaceTopography (optional extra); relative to the "
-                       "scene file"),
+                       "scene file; a regular file of at most 64 bytes per grid cell (and "
+                       "at least 64 MiB); heights (× scale) within ±1e3 m"),
             "variable": _k("string", "netCDF variable holding the heights", default="heights"),
-            "scale": _k("number", "factor converting the file's values to m", "m/unit", 0,
-                        None, True, default=1.0),
+            "scale": _k("number", "factor converting the file's values to m", "m/unit",
+                        1e-15, 1e3, default=1.0),
         },
     },
     "material": {
         "elastic": {
-            "E": _k("number", "Young's modulus", "Pa", 0, None, True),
+            "E": _k("number", "Young's modulus", "Pa", *MODULUS),
             "nu": _k("number", "Poisson's ratio", "", -1, 0.5, True, default=0.5),
         },
         "sls": {
-            "E0": _k("number", "relaxed (low-frequency) modulus E0", "Pa", 0, None, True),
-            "Einf": _k("number", "glassy (high-frequency) modulus E∞ ≥ E0", "Pa", 0, None,
-                       True),
-            "tau": _k("number", "relaxation time τ of the creep function, Eq. (14)", "s", 0,
-                      None, True),
+            "E0": _k("number", "relaxed (low-frequency) modulus E0", "Pa", *MODULUS),
+            "Einf": _k("number", "glassy (high-frequency) modulus E∞, in [E0, 1e8 E0]", "Pa",
+                       *MODULUS),
+            "tau": _k("number", "relaxation time τ of the creep function, Eq. (14)", "s",
+                      *TIME),
             "nu": _k("number", "Poisson's ratio", "", -1, 0.5, True, default=0.5),
         },
         "prony": {
-            "E_eq": _k("number", "equilibrium modulus (= E0)", "Pa", 0, None, True),
-            "moduli": _k("numbers", "branch moduli E_k", "Pa", 0, None, True),
-            "times": _k("numbers", "branch relaxation times τ_k", "s", 0, None, True),
+            "E_eq": _k("number", "equilibrium modulus (= E0)", "Pa", *MODULUS),
+            "moduli": _k("numbers", "branch moduli E_k (E_eq + Σ E_k at most 1e8 E_eq)", "Pa",
+                         *MODULUS),
+            "times": _k("numbers", "branch relaxation times τ_k", "s", *TIME),
             "nu": _k("number", "Poisson's ratio", "", -1, 0.5, True, default=0.5),
         },
         "tabulated": {
             "path": _k("path", "CSV with columns ω (rad/s), E' (Pa), E'' (Pa, engineering "
-                       "sign)"),
+                       "sign); a regular file of at most 64 MiB"),
             "nu": _k("number", "Poisson's ratio", "", -1, 0.5, True, default=0.5),
         },
     },
     "layer": {
         "half_space": {},
         "glued": {"thickness": _k("number", "layer thickness d, glued to a rigid plate "
-                                  "(Eq. A.4)", "m", 0, None, True)},
+                                  "(Eq. A.4)", "m", *HEIGHT)},
         "pressure": {"thickness": _k("number", "layer thickness d under uniform pressure "
-                                     "(Eq. A.5)", "m", 0, None, True)},
+                                     "(Eq. A.5)", "m", *HEIGHT)},
     },
 }
 KIND_DEFAULTS = {"layer": "half_space"}
@@ -230,7 +311,8 @@ _UNIT_STRING = re.compile(r"^\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?\s*[A-Za-z�
 
 
 def _check_value(path: str, key: Key, v, problems: list):
-    """Type and range of one value; returns the normalised value (or None on a problem)."""
+    """Type and range of one value; returns the normalised value (or None on a problem).
+    Messages quote the value shortened (:func:`short`)."""
     unit = f" in {key.units}" if key.units and key.units != "1" else ""
     rng = key.range_text()
 
@@ -243,20 +325,21 @@ def _check_value(path: str, key: Key, v, problems: list):
             if isinstance(x, str):
                 try:
                     float(x)
-                    return bad(f"expected a number{unit}, got the string {x!r}: write it "
+                    return bad(f"expected a number{unit}, got the string {short(x)}: write it "
                                "without quotes", where)
                 except ValueError:
                     pass
-                if _UNIT_STRING.match(x):
-                    return bad(f"{x!r} carries a unit; units are fixed: give a plain "
+                if _UNIT_STRING.match(x[:200]):
+                    return bad(f"{short(x)} carries a unit; units are fixed: give a plain "
                                f"number{unit}", where)
-            return bad(f"expected a number{unit}, got {type(x).__name__} {x!r}", where)
-        x = float(x)
+            return bad(f"expected a number{unit}, got {type(x).__name__} {short(x)}", where)
+        try:
+            x = float(x)
+        except OverflowError:  # an integer beyond the double range
+            return bad(f"{short(x)} is outside the allowed range {rng}{unit}", where)
         if not math.isfinite(x):
             return bad(f"{x!r} is not finite; allowed {rng}{unit}", where)
-        below = key.lo is not None and (x <= key.lo if key.lo_open else x < key.lo)
-        above = key.hi is not None and x > key.hi
-        if below or above:
+        if not key.allows(x):
             return bad(f"{x!r} is outside the allowed range {rng}{unit}", where)
         return x
 
@@ -265,40 +348,55 @@ def _check_value(path: str, key: Key, v, problems: list):
         return number(v)
     if t == "integer":
         if isinstance(v, bool) or not isinstance(v, int):
-            return bad(f"expected an integer, got {type(v).__name__} {v!r}")
-        if (key.lo is not None and v < key.lo) or (key.hi is not None and v > key.hi):
-            return bad(f"{v!r} is outside the allowed range {rng}")
+            return bad(f"expected an integer, got {type(v).__name__} {short(v)}")
+        if not key.allows(v):
+            return bad(f"{short(v)} is outside the allowed range {rng}")
         return int(v)
     if t == "boolean":
         if not isinstance(v, bool):
-            return bad(f"expected true or false, got {v!r}")
+            return bad(f"expected true or false, got {short(v)}")
         return v
     if t in ("string", "path"):
         if not isinstance(v, str) or (t == "path" and not v.strip()):
-            return bad(f"expected a {'file path' if t == 'path' else 'string'}, got {v!r}")
+            return bad(f"expected a {'file path' if t == 'path' else 'string'}, got {short(v)}")
         if key.choices and v not in key.choices:
-            return bad(f"{v!r} is not allowed; allowed values: {rng}")
+            return bad(f"{short(v)} is not allowed; allowed values: {rng}")
+        if t == "path" and ("\0" in v or len(v) > 4096):
+            return bad(f"{short(v)} is not a usable file path")
         return v
     if t in ("numbers", "number_or_numbers"):
         if t == "number_or_numbers" and not isinstance(v, list):
             return number(v)
         if not isinstance(v, list) or not v:
-            return bad(f"expected a non-empty list of numbers{unit}, got {v!r}")
+            return bad(f"expected a non-empty list of numbers{unit}, got {short(v)}")
+        if len(v) > MAX_LIST:
+            return bad(f"a list of {len(v)} numbers; at most {MAX_LIST} are allowed")
         n0 = len(problems)
-        out = [number(x, f"{path}[{i}]") for i, x in enumerate(v)]
+        out = []
+        for i, x in enumerate(v):
+            out.append(number(x, f"{path}[{i}]"))
+            if len(problems) - n0 >= 3:  # a long list of bad entries: the first ones suffice
+                more = len(v) - i - 1
+                if more:
+                    problems.append(f"{path}: {more} more entries not checked")
+                break
         return None if len(problems) > n0 else out
     raise AssertionError(t)  # pragma: no cover
 
 
+#: the longest list a scene value may be (a load path of this many steps)
+MAX_LIST = 10000
+
+
 def _check_section(name: str, spec: dict, got, problems: list) -> dict:
     if not isinstance(got, dict):
-        problems.append(f"{name}: expected a table [{name}], got {got!r}")
+        problems.append(f"{name}: expected a table [{name}], got {short(got)}")
         return {}
     out = {}
     for key, val in got.items():
         if key not in spec:
             allowed = ", ".join(sorted(spec)) or "(no keys)"
-            problems.append(f"{name}.{key}: unknown key; allowed keys: {allowed}")
+            problems.append(f"{name}.{short_name(key)}: unknown key; allowed keys: {allowed}")
             continue
         out[key] = _check_value(f"{name}.{key}", spec[key], val, problems)
     for key, k in spec.items():
@@ -316,15 +414,16 @@ def _check_kind_section(name: str, got, problems: list) -> dict:
     if got is None:
         got = {"kind": KIND_DEFAULTS[name]}
     if not isinstance(got, dict):
-        problems.append(f"{name}: expected a table [{name}], got {got!r}")
+        problems.append(f"{name}: expected a table [{name}], got {short(got)}")
         return {}
     kind = got.get("kind", KIND_DEFAULTS.get(name))
     if kind is None:
         problems.append(f"{name}.kind: missing; allowed: {', '.join(kinds)}")
         return {}
-    if kind not in kinds:
-        problems.append(f"{name}.kind: {kind!r} is not a known {name} kind; allowed: "
-                        f"{', '.join(kinds)}")
+    if not isinstance(kind, str) or kind not in kinds:
+        what = f"{short(kind)} is not a known {name} kind" if isinstance(kind, str) else (
+            f"expected a string, got {type(kind).__name__} {short(kind)}")
+        problems.append(f"{name}.kind: {what}; allowed: {', '.join(kinds)}")
         return {}
     rest = {k: v for k, v in got.items() if k != "kind"}
     out = _check_section(name, kinds[kind], rest, problems)
@@ -339,11 +438,24 @@ def validate(raw: dict) -> tuple[dict, list]:
     """
     problems: list[str] = []
     if not isinstance(raw, dict):
-        return {}, [f"(top level): expected a table of sections, got {raw!r}"]
+        return {}, [f"(top level): expected a table of sections, got {short(raw)}"]
+    deep = []
+    for s, sec in raw.items():
+        if not too_deep(sec, MAX_DEPTH - 1):
+            continue
+        if not isinstance(sec, dict):
+            deep.append(short_name(s))
+            continue
+        deep += [f"{short_name(s)}.{short_name(k)}" for k, v in sec.items()
+                 if too_deep(v, MAX_DEPTH - 2)]
+    if deep:  # checked first: the checks below (and copies of the scene) would recurse
+        return {}, [f"{d}: nested too deeply; scene values are numbers, strings, booleans "
+                    "or lists of numbers" for d in deep]
     known = set(SECTIONS) | set(KINDS)
     for sec in raw:
         if sec not in known:
-            problems.append(f"{sec}: unknown section; allowed: {', '.join(sorted(known))}")
+            problems.append(f"{short_name(sec)}: unknown section; allowed: "
+                            f"{', '.join(sorted(known))}")
     out = {"scene": _check_section("scene", SECTIONS["scene"], raw.get("scene", {}), problems)}
     if "sinusoid" in raw:
         mixed = [s for s in PHYSICAL if s in raw]
@@ -390,10 +502,18 @@ def _check_physical(out, problems):
         if mat["Einf"] < mat["E0"]:
             problems.append(f"material.Einf: {mat['Einf']!r} Pa is below material.E0 = "
                             f"{mat['E0']!r} Pa; allowed [E0, inf)")
+        elif mat["Einf"] > STIFFENING * mat["E0"]:
+            problems.append(f"material.Einf: {mat['Einf']!r} Pa is more than {STIFFENING:g} "
+                            f"times material.E0 = {mat['E0']!r} Pa; allowed [E0, "
+                            f"{STIFFENING * mat['E0']:g}] Pa")
     if mat.get("kind") == "prony" and mat.get("moduli") and mat.get("times"):
         if len(mat["moduli"]) != len(mat["times"]):
             problems.append(f"material.times: {len(mat['times'])} entries but material.moduli "
                             f"has {len(mat['moduli'])}; they must match")
+        if mat.get("E_eq") and sum(mat["moduli"]) > (STIFFENING - 1) * mat["E_eq"]:
+            problems.append(f"material.moduli: their sum {sum(mat['moduli']):g} Pa is more than "
+                            f"{STIFFENING:g} times material.E_eq = {mat['E_eq']!r} Pa; allowed "
+                            f"a sum in (0, {(STIFFENING - 1) * mat['E_eq']:g}] Pa")
     if "control" in out and (ctl.get("mean_pressure") is None) == (ctl.get("penetration") is None):
         problems.append("control.mean_pressure / control.penetration: give exactly one")
     if mot.get("velocity") is not None:
@@ -423,9 +543,18 @@ def _check_physical(out, problems):
             elif a0 > 0.5 * max(g["Lx"], g["Ly"]):
                 problems.append(f"adhesion.a0: {a0!r} m is larger than half the cell; allowed "
                                 f"[{hmin:.4g}, {0.5 * max(g['Lx'], g['Ly']):.4g}] m")
+        fr = adh.get("flaw_radius")
+        if adhesive and fr is not None and fr > 0.5 * max(g["Lx"], g["Ly"]):
+            # a flaw wider than the cell would open the whole contact at once
+            problems.append(f"adhesion.flaw_radius: {fr!r} m is larger than half the cell; "
+                            f"allowed (0, {0.5 * max(g['Lx'], g['Ly']):.4g}] m")
         if sf.get("kind") == "sinusoid" and sf.get("wavelength"):
             n = g["Lx"] / sf["wavelength"]
-            if abs(n - round(n)) > 1e-9 or round(n) < 1:
+            if not n <= g["Nx"] / 2:  # also inf: a wavelength far below one cell
+                problems.append(f"surface.wavelength: {sf['wavelength']!r} m is shorter than "
+                                f"two cells ({2 * g['Lx'] / g['Nx']:.6g} m); allowed grid.Lx/k "
+                                f"m for a whole k in [1, {g['Nx'] // 2}]")
+            elif abs(n - round(n)) > 1e-9 or round(n) < 1:
                 problems.append(f"surface.wavelength: {sf['wavelength']!r} m must divide "
                                 f"grid.Lx = {g['Lx']!r} m a whole number of times")
         cut = sf.get("cutoff_wavelength")

@@ -7,6 +7,7 @@ point to touch, and the displacement prescribed in contact is ``w = h - max(h) +
 
 from __future__ import annotations
 
+import stat
 from pathlib import Path
 
 import numpy as np
@@ -157,11 +158,48 @@ def from_npy(path, cell: Cell) -> np.ndarray:
 
 TEXT_SUFFIXES = (".txt", ".csv", ".dat", ".asc")
 
+#: input files (height maps, Δγ maps, modulus tables) may hold up to this many bytes, and a
+#: grid map FILE_BYTES_PER_CELL per cell beyond it (a text matrix needs ≈ 25 bytes a value)
+MIN_FILE_LIMIT = 64 * 2**20
+FILE_BYTES_PER_CELL = 64
 
-def read_heights(path, *, variable: str = "heights", scale: float = 1.0):
+
+def file_limit(n_cells: int) -> int:
+    """The size limit (bytes) of a map file for a grid of ``n_cells`` cells."""
+    return max(MIN_FILE_LIMIT, FILE_BYTES_PER_CELL * int(n_cells))
+
+
+def _quote(path) -> str:
+    text = str(path)
+    return repr(text) if len(text) <= 200 else repr(text[:200]) + f"... ({len(text)} characters)"
+
+
+def check_input_file(path, what: str, limit: int = MIN_FILE_LIMIT) -> Path:
+    """An input file must be a regular file (a FIFO would block the read, a device such as
+    /dev/zero never end it) of at most ``limit`` bytes; raises SurfaceError naming it."""
+    path = Path(path)
+    try:
+        st = path.stat()
+    except (OSError, ValueError):  # missing, a dangling link, an unreadable folder, NUL
+        raise SurfaceError(f"{what} {_quote(path)} does not exist") from None
+    if not stat.S_ISREG(st.st_mode):
+        kind = ("a folder" if stat.S_ISDIR(st.st_mode) else "a FIFO" if stat.S_ISFIFO(
+            st.st_mode) else "a device" if stat.S_ISCHR(st.st_mode) or stat.S_ISBLK(
+            st.st_mode) else "a socket" if stat.S_ISSOCK(st.st_mode) else "not a file")
+        raise SurfaceError(f"{what} {_quote(path)} is {kind}; allowed: a regular file of at "
+                           f"most {limit} bytes")
+    if st.st_size > limit:
+        raise SurfaceError(f"{what} {_quote(path)} has {st.st_size} bytes; allowed: a regular "
+                           f"file of at most {limit} bytes")
+    return path
+
+
+def read_heights(path, *, variable: str = "heights", scale: float = 1.0,
+                 max_bytes: int = MIN_FILE_LIMIT):
     """Read a height map; returns ``(h, size)`` with h (Nx, Ny) in m (file values × ``scale``)
     and size = (Lx, Ly) in m when the file states it (netCDF coordinates, instrument files),
-    else None.
+    else None.  The file must be a regular file of at most ``max_bytes`` bytes
+    (:func:`check_input_file`).
 
     Formats: ``.npy``; plain text / CSV matrices (``.txt .csv .dat .asc``, rows = x index,
     ``#`` comments); netCDF (``.nc``: the variable ``variable`` on dimensions (x, y), with
@@ -170,13 +208,14 @@ def read_heights(path, *, variable: str = "heights", scale: float = 1.0):
     """
     path = Path(path)
     scale = _finite_positive("scale", scale)
-    if not path.is_file():
-        raise SurfaceError(f"height map {str(path)!r} does not exist")
+    check_input_file(path, "height map", max_bytes)
     suffix = path.suffix.lower()
     size = None
     try:
         if suffix == ".npy":
             h = np.load(path, allow_pickle=False)
+            if not isinstance(h, np.ndarray):  # pragma: no cover - np.load of a .npy
+                raise SurfaceError(f"height map {_quote(path)} holds no array")
         elif suffix in TEXT_SUFFIXES:
             with path.open() as fh:
                 first = next((ln for ln in fh if ln.strip() and not ln.startswith("#")), "")
@@ -217,13 +256,18 @@ def read_heights(path, *, variable: str = "heights", scale: float = 1.0):
             topo = read_topography(str(path))
             h = np.asarray(topo.heights(), dtype=float)
             size = tuple(float(s) for s in topo.physical_sizes)
+        if not (np.issubdtype(np.asarray(h).dtype, np.integer)
+                or np.issubdtype(np.asarray(h).dtype, np.floating)):
+            raise SurfaceError(f"height map {_quote(path)} holds {np.asarray(h).dtype} values; "
+                               "heights must be real numbers")
+        h = np.asarray(h, dtype=float)
     except SurfaceError:
         raise
     except Exception as exc:  # truncated or malformed files of any format
-        raise SurfaceError(f"cannot read height map {str(path)!r}: {exc}") from exc
-    h = np.asarray(h, dtype=float)
+        raise SurfaceError(f"cannot read height map {_quote(path)}: {str(exc)[:300]}") from exc
     if h.ndim == 1:
         h = h[:, None]
     if h.ndim != 2 or h.size == 0:
-        raise SurfaceError(f"height map {str(path)!r} must be a 2D array, got shape {h.shape}")
-    return h * scale, size
+        raise SurfaceError(f"height map {_quote(path)} must be a 2D array, got shape {h.shape}")
+    with np.errstate(over="ignore"):
+        return h * scale, size

@@ -15,7 +15,9 @@ quantities below are integrals over that sub-cell front, on the resolved patches
 * G1 and G2: front-length averages of G over the trailing (v̂·n < 0) and leading
   (v̂·n ≥ 0) parts; in an elastic scene one average for both;
 * μ_a = −Σ (G − Δγ)(n·v̂) ds / W for a uniform Δγ (the uniform part closes to zero around
-  every closed front, ∮ n ds = 0), −Σ G (n·v̂) ds / W for a Δγ map; W the normal force.
+  every closed front, ∮ n ds = 0), −Σ G (n·v̂) ds / W for a Δγ map; W the normal force;
+* a front whose every edge is held by contact (the surfaces would interpenetrate if it
+  opened: a compressive, adhesiveless edge, as Δγ → 0) has no crack tip: G1 = G2 = μ_a = 0.
 """
 
 from __future__ import annotations
@@ -78,6 +80,10 @@ def front_outputs(op, r, dgamma) -> dict:
         G1G2.append(float(np.sum(G[sel] * ds[sel]) / np.sum(ds[sel])) if sel.any() else np.nan)
     if len(G1G2) == 1:
         G1G2 *= 2
+    length = float(np.sum(ds[ok]))
+    if r.crack_tips is not None and ok.any() and not r.crack_tips.any():
+        # every edge held by contact (Γ → 0: an adhesiveless contact): no crack tip
+        G1G2, ok = [0.0, 0.0], np.zeros_like(ok)
     vhat = sliding_direction(op)
     nv = b.normal[0] * vhat[0] + b.normal[1] * vhat[1]
     release = G - dg if np.ndim(dgamma) == 0 else G
@@ -85,7 +91,7 @@ def front_outputs(op, r, dgamma) -> dict:
     W = float(r.pressure.sum()) * cell.cell_area
     small = abs(W) <= 1e-9 * float(np.abs(r.pressure).sum()) * cell.cell_area
     return dict(area=area, area_fraction=area / (cell.Lx * cell.Ly),
-                front_length=float(np.sum(ds[ok])), G1=G1G2[0], G2=G1G2[1],
+                front_length=length, G1=G1G2[0], G2=G1G2[1],
                 mu_adhesive=np.nan if small else force / W,
                 G_map=np.where(ok, G / dg, np.nan),
                 unresolved_patches=r.unresolved_patches)

@@ -703,6 +703,8 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
             for k in ("force", "lateral"):
                 out[f"mu_bar_{k}_front"] = quotient(at_front[k], at_front["load"], scale[k],
                                                     scale["load"])
+            if r.crack_tips is not None and not r.crack_tips.any():
+                G = [0.0]  # every edge held by contact (Γ → 0): no crack tip (front.py)
             if len(G) == 1:
                 G = G * 2
             # colour 0 is trailing (v̂·n < 0); for elastic scenes one colour for both edges

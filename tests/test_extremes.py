@@ -2,6 +2,8 @@
 or returns a clear non-converged / detached / full-contact status; never NaN or inf in a
 converged state, never a hang (each solve is bounded by its iteration guard)."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -15,6 +17,8 @@ from spectralbem.materials import Elastic, StandardLinearSolid
 from spectralbem.scenes import load_scene
 from spectralbem.spectral import Cell, SpectralOperator
 from spectralbem.surfaces import bisinusoid, paraboloid, sinusoid
+
+CASES = Path(__file__).resolve().parents[1] / "cases"
 
 N = 256  # cells per wavelength of the y-invariant sinusoid
 H = 2 * np.pi / N
@@ -161,6 +165,43 @@ def test_pulloff_to_detachment_2d_sphere():
     assert ds.area_fraction.values[-1] == 0.0
 
 
+@pytest.mark.parametrize("case, overrides, why", [
+    ("seed_sinusoid_2d", {"sinusoid.cells_per_wavelength": 640, "sinusoid.p_tilde": -1.0},
+     "pull-off"),
+    ("sinusoid_physical", {"scene.model": "grid2d", "control.mean_pressure": -2e4},
+     "energy release rate")])
+def test_tensile_load_beyond_pull_off_is_no_partial_state_2d(case, overrides, why):
+    """Tensile loads beyond the load-control pull-off (p̃ ≈ -0.2 by the 1D method, which
+    reports both scenes detached) have no equilibrium on the grid either.  Both were
+    reported as converged ``partial`` states: the seed scene at p̃ = -1 as a 6 × 2 cell
+    patch held by cells pinned by non-penetration whose opening released ~10³ Δγ a0 (no
+    sub-cell root in the band); the physical scene at -2e4 Pa (p̃ = -0.24) as a 5-cell strip
+    whose 2-cycling edges passed the test in position with G1 = 34 Δγ on its crack tips,
+    beyond the bound Δγ/β ≤ G ≤ β Δγ (β = 10).  Both are now not_converged, and the message
+    says why; nothing infinite leaks out."""
+    ds = sb.solve(load_scene(CASES / f"{case}.toml", overrides=overrides))
+    assert ds.status.item() == "not_converged"
+    msg = ds.attrs.get("solver_message", ds.attrs.get("message"))
+    assert why in msg and "pull-off" in msg, msg
+    for name, v in ds.data_vars.items():
+        if v.dtype.kind == "f":
+            assert not np.isinf(v.values).any(), name
+
+
+def test_pulled_apart_under_penetration_control_is_no_partial_state_2d():
+    """The seed's 2D sinusoid at Δ̃ = -10 (ten amplitudes apart): reported as a converged
+    ``partial`` state, a 4-cell contact carrying p̃ = -1.5 with every edge held by
+    non-penetration.  A contact with no crack tip carries no tension: not_converged."""
+    from spectralbem.scenes import read_scene_file
+
+    raw = read_scene_file(CASES / "seed_sinusoid_2d.toml")
+    raw["sinusoid"].pop("p_tilde")
+    raw["sinusoid"].update(delta_tilde=-10.0, cells_per_wavelength=640)
+    ds = sb.solve(load_scene(raw, base_dir=CASES))
+    assert ds.status.item() == "not_converged"
+    assert "no crack tip" in ds.attrs.get("solver_message", ds.attrs.get("message"))
+
+
 @pytest.mark.parametrize("shape", [(8, 8), (12, 20), (97, 35), (2048, 8), (8, 2048)])
 def test_grid_sizes(shape):
     """Grids from 8 to 2048 cells per side, non-square, non-power-of-two: the elastic and the
@@ -264,3 +305,25 @@ def test_leaving_full_contact_by_the_nucleation_rule():
     assert status == {(8, 0.5): "full_contact", (8, 0.0): "full_contact",
                       (8, -0.3): "detached", (24, 0.5): "full_contact",
                       (24, 0.0): "partial", (24, -0.3): "detached"}
+
+
+def test_vanishing_adhesion_on_the_seed_grid_is_the_adhesiveless_contact():
+    """The seed's 2D scene at Γ = 1e-12 (issue reproducer: μ̄ was nan with a "Mean of empty
+    slice" warning; then G1/Δγ = -3e7, G2/Δγ = +5e7 from edges held by contact).  Every edge
+    is compressive and held by non-penetration, so the state is the adhesiveless contact:
+    ã, μ̄ as the 1D method's adhesiveless reference in the same dataset (measured 2.3e-3 and
+    3e-5 relative at 1024 cells per wavelength; asserted at 5e-3, the grid's one-cell
+    resolution of ã = 0.75 being 4e-3), and no crack tip: G1 = G2 = μ̄_a = 0."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        ds = sb.solve(load_scene(CASES / "seed_sinusoid_2d.toml",
+                                 overrides={"sinusoid.Gamma": 1e-12}))
+    ref1d = sinusoid1d.solve(0.1, 10.0, 0.0, p_tilde=0.15, a0_tilde=0.0,
+                             adhesiveless_reference=False)
+    assert ds.status.item() == "partial"
+    assert ds.a_tilde.item() == pytest.approx(ref1d.a_tilde.item(), rel=5e-3)
+    assert ds.mu_bar.item() == pytest.approx(ref1d.mu_bar.item(), rel=5e-3)
+    assert ds.G1_over_dgamma.item() == ds.G2_over_dgamma.item() == 0.0
+    assert ds.mu_bar_adhesive.item() == 0.0

@@ -111,12 +111,16 @@ def resolved_front(mask, outer, inner, a0: float, spacing):
     """(outer, inner) front cells that belong to resolved patches (an outer front cell
     belongs to each patch it touches; resolved if one of them is)."""
     lab, ok = patch_labels(mask, a0, spacing)
-    res_in = inner & ok[lab]
-    res_out = np.zeros_like(outer)
+    return _touching(mask & ok[lab]) & outer, inner & ok[lab]
+
+
+def _touching(m: np.ndarray) -> np.ndarray:
+    """Cells with a 4-neighbour (periodic) in ``m``."""
+    out = np.zeros_like(m)
     for ax in (0, 1):
-        for s in (1, -1):
-            res_out |= np.roll(mask & ok[lab], s, axis=ax)
-    return res_out & outer, res_in
+        for sh in (1, -1):
+            out |= np.roll(m, sh, axis=ax)
+    return out
 
 
 def _neighbour_mean(field_: np.ndarray, where: np.ndarray, at: np.ndarray) -> np.ndarray:
@@ -178,12 +182,8 @@ def _held_offsets(s_out, s_in, outer, held_in):
     extrapolation of meaningless works (negative gap times compressive pressure), so the
     edge stays at the mask edge, as in an adhesiveless contact: s ≥ 0 on those inner cells
     and on the outer cells next to them (an outward balance still counts)."""
-    near = np.zeros_like(held_in)
-    for ax in (0, 1):
-        for sh in (1, -1):
-            near |= np.roll(held_in, sh, axis=ax)
     s_in = np.where(held_in, np.maximum(s_in, 0.0), s_in)
-    s_out = np.where(outer & near, np.maximum(s_out, 0.0), s_out)
+    s_out = np.where(outer & _touching(held_in), np.maximum(s_out, 0.0), s_out)
     return s_out, s_in
 
 
@@ -196,14 +196,10 @@ RELEASE_SLACK = 0.5
 def crack_tips(res_out, held, outer):
     """The resolved outer front cells that are crack tips: not next to an inner front cell
     held by contact (a compressive, adhesiveless edge has no stress singularity)."""
-    near = np.zeros_like(held)
-    for ax in (0, 1):
-        for sh in (1, -1):
-            near |= np.roll(held & ~outer, sh, axis=ax)
-    return res_out & ~near
+    return res_out & ~_touching(held & ~outer)
 
 
-def _release_out_of_bounds(op, mask, tests, s_out, res_out, held, outer, a0, dgamma) -> str:
+def _release_out_of_bounds(op, tests, tip, dgamma) -> str:
     """'' or why the balanced front is no equilibrium: a front-averaged G1 or G2 on the
     crack-tip edges (resolved outer front cells not next to an edge held by contact) outside
     Δγ/β ≤ G ≤ β Δγ, β = E∞/E0, with RELEASE_SLACK · Δγ of slack: a steadily moving edge
@@ -211,14 +207,12 @@ def _release_out_of_bounds(op, mask, tests, s_out, res_out, held, outer, a0, dga
     Δγ (G = Δγ in an elastic scene).  A 2-cycle that brackets no root (a tensile load
     beyond the pull-off, where each flip also moves Δ) passes the test in position and
     ends here."""
-    from .front import front_outputs
+    from .front import release_rates
 
-    tip = crack_tips(res_out, held, outer)
     if not tip.any():
         return ""
-    r = AdhesiveResult(np.zeros(mask.shape), mask, 0.0, 0.0, tests, s_out, 0, 0, True,
-                       "partial", "", a0=a0, resolved=tip)
-    fo = front_outputs(op, r, dgamma)
+    _, G1, G2 = release_rates(op, tests, tip, dgamma)
+    fo = {"G1": G1, "G2": G2}
     beta = op.material.beta
     lo, hi = 1.0 / beta - RELEASE_SLACK, beta * (1.0 + RELEASE_SLACK)
     dg = float(np.mean(dgamma))
@@ -573,7 +567,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     tips = None
     if status == "partial" and held is not None and res_out is not None:
         tips = crack_tips(res_out, held, outer)
-        bad = _release_out_of_bounds(op, mask, tests, s_out, res_out, held, outer, a0, dgamma)
+        bad = _release_out_of_bounds(op, tests, tips, dgamma)
         if not tips.any() and res_out.any() and float(p.mean()) < 0:
             bad = ("no equilibrium: the contact carries a tensile mean pressure, but every "
                    "edge is held by contact (no crack tip: an adhesiveless contact carries "

@@ -13,7 +13,9 @@ quantities below are integrals over that sub-cell front, on the resolved patches
 * the energy release rate at the balanced edge, G = Δγ − δL_P/δA (Eqs. 3, 6: there
   δL = Δγ δA), with δL_P/δA of the closing band (Eq. 10, adjoint attribution);
 * G1 and G2: front-length averages of G over the trailing (v̂·n < 0) and leading
-  (v̂·n ≥ 0) parts; in an elastic scene one average for both;
+  (v̂·n ≥ 0) parts of the crack tips, the front cells not next to an edge held by contact
+  (a compressive edge has no crack tip and no release rate); in an elastic scene one
+  average for both; G and μ_a are taken over the same crack-tip cells;
 * μ_a = −Σ (G − Δγ)(n·v̂) ds / W for a uniform Δγ (the uniform part closes to zero around
   every closed front, ∮ n ds = 0), −Σ G (n·v̂) ds / W for a Δγ map; W the normal force;
 * a front whose every edge is held by contact (the surfaces would interpenetrate if it
@@ -60,6 +62,24 @@ def at_front(tests, offset_out, base: dict, a0: float) -> dict:
     return out
 
 
+def release_rates(op, tests, where, dgamma):
+    """(G map, G1, G2): the energy release rate G = Δγ − δL_P/δA of the closing bands on the
+    outer front cells ``where`` (nan elsewhere; Eqs. 3, 6, 10) and its front-length averages
+    over the trailing and leading colours (one colour: the same average twice)."""
+    cell = op.cell
+    ds = front_length_weights(tests.bands.normal, cell.hx, cell.hy)
+    dg = np.broadcast_to(np.asarray(dgamma, float), cell.shape)
+    G = np.where(where & np.isfinite(tests.dLP_rate), dg - tests.dLP_rate, np.nan)
+    ok = np.isfinite(G)
+    avg = []
+    for col in tests.colour_map:
+        sel = ok & col
+        avg.append(float(np.sum(G[sel] * ds[sel]) / np.sum(ds[sel])) if sel.any() else np.nan)
+    if len(avg) == 1:
+        avg *= 2
+    return G, avg[0], avg[1]
+
+
 def front_outputs(op, r, dgamma) -> dict:
     """The sub-cell front's outputs of the adhesive result ``r`` (see the module docstring):
     area (m²), area_fraction, front_length (m), G1, G2 (J/m²), mu_adhesive, the G map on the
@@ -72,18 +92,14 @@ def front_outputs(op, r, dgamma) -> dict:
     s = np.clip(np.where(ok & np.isfinite(r.offset_out), r.offset_out, 0.0), -r.a0, r.a0)
     area = float(r.mask.sum() * cell.cell_area + np.sum(s * ds))
     dg = np.broadcast_to(np.asarray(dgamma, float), cell.shape)
-    G = np.where(ok & np.isfinite(t.dLP_rate), dg - t.dLP_rate, np.nan)
+    length = float(np.sum(ds[ok & np.isfinite(t.dLP_rate)]))
+    if r.crack_tips is not None:  # edges held by contact are no crack tips
+        ok &= r.crack_tips
+    G, *G1G2 = release_rates(op, t, ok, dgamma)
     ok &= np.isfinite(G)
-    G1G2 = []
-    for col in t.colour_map:
-        sel = ok & col
-        G1G2.append(float(np.sum(G[sel] * ds[sel]) / np.sum(ds[sel])) if sel.any() else np.nan)
-    if len(G1G2) == 1:
-        G1G2 *= 2
-    length = float(np.sum(ds[ok]))
-    if r.crack_tips is not None and ok.any() and not r.crack_tips.any():
+    if r.crack_tips is not None and length > 0 and not ok.any():
         # every edge held by contact (Γ → 0: an adhesiveless contact): no crack tip
-        G1G2, ok = [0.0, 0.0], np.zeros_like(ok)
+        G1G2 = [0.0, 0.0]
     vhat = sliding_direction(op)
     nv = b.normal[0] * vhat[0] + b.normal[1] * vhat[1]
     release = G - dg if np.ndim(dgamma) == 0 else G

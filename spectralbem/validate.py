@@ -86,11 +86,6 @@ def main(argv=None):
                          "(see docs/validation.md)")
 
 
-#: a fixed front smoothing for the JKR disc at 72-90 cells per radius (tests): σ = 3 cycles,
-#: σ = 6 converges
-JKR_SIGMA = 6.0
-
-
 #: Δγ of the JKR validation: the zero-load JKR radius (9πΔγR²/(2E*))^(1/3) is 0.1 L, the
 #: largest contact the acceptance allows (issue 4: radius ≤ 0.1 L); at 1024² it has 102 cells
 #: and the pull-off radius (1/4)^(1/3) of it 65, above the ≥ 50 cells asked for

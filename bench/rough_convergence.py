@@ -11,7 +11,9 @@ error of each N from the three finest grids.
 
 Usage: python bench/rough_convergence.py [--sizes 128 256 512] [--materials elastic sls]
            [--a0 7.8125e-6] [--sigma 6] [--out bench/rough_convergence.json] [--report]
-``--report`` only rewrites docs/rough_convergence.md from the JSON.
+       python bench/rough_convergence.py --scan
+``--report`` only rewrites docs/rough_convergence.md from the JSON; ``--scan`` runs the
+elastic loading state against a0 and σ in cells (SCAN; JSON rough_convergence_lengths.json).
 """
 
 from __future__ import annotations
@@ -39,17 +41,25 @@ MATERIALS = {
 }
 
 
-def run_one(n: int, material: str, a0: float, sigma: float | None) -> dict:
-    """One load path at N², the material's overrides, a0 (m), σ (cells or None)."""
+def _solve(n: int, material: str, a0: float, sigma: float | None, loads=None):
+    """(Dataset, CPU s) of the case at N², the material's overrides, a0 (m), σ (cells, fixed:
+    no growth with the patch; None: the default) and the load path (None: the case's)."""
     raw = read_scene_file(CASE)
     if MATERIALS[material] is not None:
         raw["material"] = dict(MATERIALS[material])
+    if loads is not None:
+        raw["control"] = {"mean_pressure": list(loads)}
     ov = {"grid.Nx": n, "grid.Ny": n, "adhesion.a0": a0}
     if sigma is not None:
-        ov["solver.front_smoothing"] = sigma
+        ov.update({"solver.front_smoothing": sigma, "solver.smoothing_per_radius": 0.0})
     t = time.process_time()
     ds = solve(load_scene(raw, overrides=ov, base_dir=CASE.parent))
-    cpu = time.process_time() - t
+    return ds, time.process_time() - t
+
+
+def run_one(n: int, material: str, a0: float, sigma: float | None) -> dict:
+    """One load path at N², the material's overrides, a0 (m), σ (cells or None)."""
+    ds, cpu = _solve(n, material, a0, sigma)
     steps = []
     for k in range(ds.sizes["step"]):
         st = ds.isel(step=k)
@@ -62,6 +72,17 @@ def run_one(n: int, material: str, a0: float, sigma: float | None) -> dict:
     hyst = steps[2]["area_fraction"] / steps[0]["area_fraction"] - 1.0
     return dict(N=n, material=material, a0=a0, sigma=sigma, cpu=cpu, steps=steps,
                 hysteresis=hyst)
+
+
+def scan_one(n: int, a0_cells: float, sigma: float | None) -> dict:
+    """The elastic loading state at 1e4 Pa at N² with a0 and σ in cells (a0 is numerical in
+    an elastic scene): area fraction, status, balanced fraction, front length, CPU s."""
+    ds, cpu = _solve(n, "elastic", a0_cells * 1e-3 / n, sigma, loads=[1e4])
+    return dict(N=n, a0_cells=a0_cells, sigma=sigma, cpu=cpu,
+                area_fraction=float(ds["area_fraction"]), status=str(ds["status"].values),
+                balanced_fraction=float(ds["balanced_fraction"]),
+                front_length=float(ds["front_length"]),
+                unresolved_patches=int(ds["unresolved_patches"]))
 
 
 def richardson(values: list) -> tuple:
@@ -78,7 +99,7 @@ def richardson(values: list) -> tuple:
     return p, finf, [abs(v - finf) / max(abs(finf), 1e-300) for v in values]
 
 
-def report(runs: list, path: Path) -> None:
+def report(runs: list, path: Path, scans: list = ()) -> None:
     lines = ["# Rough-surface adhesive contact: grid refinement", "",
              "The page `bench/rough_convergence.py` writes (`make bench`, or "
              "`python bench/rough_convergence.py`); the numbers are from the JSON beside the "
@@ -128,12 +149,55 @@ def report(runs: list, path: Path) -> None:
             lines.append(f"| hysteresis | {p:.2f} | {finf:.4g} | " + " | ".join(
                 f"{e * 100:.1f} %" for e in errs) + " |")
             lines.append("")
+    lines += lengths_report(scans)
     path.write_text("\n".join(lines) + "\n")
+
+
+def lengths_report(scans: list) -> list:
+    """The tables of the elastic loading state against a0 and σ (cells) at each N, and of
+    a0 = one cell at every N with its Richardson estimate."""
+    if not scans:
+        return []
+    lines = ["## Numerical lengths of the elastic state (loading, 1e4 Pa)", "",
+             "`python bench/rough_convergence.py --scan`: a0 and the front smoothing σ in "
+             "cells (σ fixed: no growth with the patch; default: 6 cells, growing to 0.23 of "
+             "a patch's radius).", "",
+             "| N | a0 (cells) | a0 (µm) | σ (cells) | status | balanced | area | "
+             "front length (mm) | CPU s |", "|---|---|---|---|---|---|---|---|---|"]
+    for r in sorted(scans, key=lambda r: (r["N"], r["a0_cells"], -1 if r["sigma"] is None
+                                          else r["sigma"])):
+        lines.append(f"| {r['N']} | {r['a0_cells']:g} | {r['a0_cells'] * 1e3 / r['N']:.3g} | "
+                     f"{'default' if r['sigma'] is None else format(r['sigma'], 'g')} | "
+                     f"{r['status']} | {r['balanced_fraction']:.3f} | "
+                     f"{r['area_fraction']:.4f} | {r['front_length'] * 1e3:.2f} | "
+                     f"{r['cpu']:.0f} |")
+    one = sorted((r for r in scans if r["a0_cells"] == 1 and r["sigma"] is None),
+                 key=lambda r: r["N"])
+    if len(one) >= 3:
+        vals = [r["area_fraction"] for r in one]
+        p, finf, errs = richardson(vals)
+        lines += ["", "a0 = one cell and the default σ at every N (both numerical lengths "
+                  "shrink with h): observed order and Richardson estimate of the area's "
+                  "relative error (three finest grids)", "",
+                  "| p | extrapolated | " + " | ".join(f"err N={r['N']}" for r in one) + " |",
+                  "|---|---|" + "---|" * len(one),
+                  f"| {p:.2f} | {finf:.4f} | " + " | ".join(f"{e * 100:.2f} %" for e in errs)
+                  + " |"]
+    return lines + [""]
+
+
+#: the numerical-length scan: (N, a0 in cells, σ in cells or None = default)
+SCAN = ([(n, 1.0, None) for n in (128, 256, 512, 1024)]
+        + [(n, m, None) for n in (256, 512) for m in (2.0, 4.0)]
+        + [(n, 1.0, sig) for n in (256, 512) for sig in (1.5, 3.0, 12.0)]
+        + [(256, 1.0, 0.0)])
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--sizes", type=int, nargs="+", default=[128, 256, 512])
+    ap.add_argument("--sizes", type=int, nargs="+", default=None,
+                    help="N of the load paths (default 128 256 512); with --scan: only the "
+                         "scan's rows at these N (default all)")
     ap.add_argument("--materials", nargs="+", default=["elastic", "sls"],
                     choices=sorted(MATERIALS))
     ap.add_argument("--a0", type=float, nargs="+", default=[7.8125e-6])
@@ -141,12 +205,26 @@ def main(argv=None):
     ap.add_argument("--out", type=Path, default=Path(__file__).with_name(
         "rough_convergence.json"))
     ap.add_argument("--report", action="store_true")
+    ap.add_argument("--scan", action="store_true",
+                    help="only the elastic state against a0 and σ in cells (SCAN)")
     args = ap.parse_args(argv)
     runs = json.loads(args.out.read_text()) if args.out.exists() else []
-    if not args.report:
+    scan_path = args.out.with_name(args.out.stem + "_lengths.json")
+    scans = json.loads(scan_path.read_text()) if scan_path.exists() else []
+    if args.scan:
+        for n, m, sig in SCAN:
+            if args.sizes and n not in args.sizes:
+                continue
+            r = scan_one(n, m, sig)
+            scans = [x for x in scans if (x["N"], x["a0_cells"], x["sigma"]) != (n, m, sig)]
+            scans.append(r)
+            scan_path.write_text(json.dumps(scans, indent=1))
+            print(f"elastic N={n} a0={m:g} cells sigma={sig}: area {r['area_fraction']:.4f} "
+                  f"{r['status']} cpu {r['cpu']:.0f} s", flush=True)
+    elif not args.report:
         for mat in args.materials:
             for a0 in args.a0:
-                for n in args.sizes:
+                for n in args.sizes or (128, 256, 512):
                     r = run_one(n, mat, a0, args.sigma)
                     runs = [x for x in runs if (x["N"], x["material"], x["a0"], x["sigma"])
                             != (n, mat, a0, args.sigma)] + [r]
@@ -155,7 +233,7 @@ def main(argv=None):
                     print(f"{mat} N={n} a0={a0:g}: areas "
                           f"{[round(x['area_fraction'], 4) for x in s]} statuses "
                           f"{[x['status'] for x in s]} cpu {r['cpu']:.0f} s", flush=True)
-    report(runs, ROOT / "docs" / "rough_convergence.md")
+    report(runs, ROOT / "docs" / "rough_convergence.md", scans)
 
 
 if __name__ == "__main__":

@@ -35,11 +35,8 @@ from .spectral import SpectralOperator
 _CROSS = ndimage.generate_binary_structure(2, 1)
 
 
-#: σ (cells) of the Gaussian average of the balance along the front.  Measured: σ = 3 let the
-#: mask wander or cycle on curved fronts (JKR disc at 72-90 cells per radius: cycles; the
-#: viscoelastic sphere at 256²: 82 outer iterations; the 256² rough load/unload: lattice
-#: cycles), σ = 6 converges in each (JKR radius within 0.24 %; sphere: 13 iterations; rough:
-#: 21-33 iterations, no cycle).  Straight grid-aligned fronts do not depend on it.
+#: σ (cells) of the average of the balance along the front: a lattice length (docs/theory.md,
+#: measured bias and σ → 0 on a rough surface); 3 leaves a viscoelastic unloading unconverged
 FRONT_SMOOTHING = 6.0
 
 #: σ grows with the contact patch: σ = max(FRONT_SMOOTHING, SMOOTHING_PER_RADIUS · r) for a

@@ -89,9 +89,7 @@ class Scene:
     model: str = "grid2d"
     spec: dict = field(default_factory=dict)  # the normalised scene mapping (for the dataset)
     solver: dict = field(default_factory=lambda: {"tol": 1e-10, "max_iterations": 10000,
-                                                  "max_outer": 500, "threads": 1,
-                                                  "front_smoothing": 6.0,
-                                                  "smoothing_per_radius": 0.23})
+                                                  "max_outer": 500, "threads": 1})
     fields: bool = True
     control: tuple = ()
     flaw_radius: float | None = None  # m; None: a0
@@ -673,8 +671,7 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
         r = solve_adhesive(op, h, scene.dgamma, scene.a0, penetration=scene.delta,
                            mean_pressure=scene.p_mean, mask0=mask0, rtol=rtol,
                            observables=obs, max_outer=scene.solver["max_outer"],
-                           front_smoothing=scene.solver.get("front_smoothing", 6.0),
-                           smoothing_per_radius=scene.solver.get("smoothing_per_radius", 0.23),
+                           **_smoothing(scene),
                            criterion=scene.solver.get("criterion", "exact"),
                            front_tol=scene.solver.get("front_tol", 0.5),
                            flaw_radius=scene.flaw_radius)
@@ -812,8 +809,7 @@ def _solve_grid(scene: Scene, mask0=None):
         r = solve_adhesive(op, h, scene.dgamma, scene.a0, penetration=scene.delta,
                            mean_pressure=scene.p_mean, mask0=mask0, rtol=tol,
                            max_outer=scene.solver["max_outer"],
-                           front_smoothing=scene.solver.get("front_smoothing", 6.0),
-                           smoothing_per_radius=scene.solver.get("smoothing_per_radius", 0.23),
+                           **_smoothing(scene),
                            criterion=scene.solver.get("criterion", "exact"),
                            front_tol=scene.solver.get("front_tol", 0.5),
                            flaw_radius=scene.flaw_radius)
@@ -895,6 +891,16 @@ def _dimensionless_groups(scene: Scene) -> dict:
     return dict(zeta=zeta, beta=beta, Gamma=gamma_from_dgamma(scene.dgamma, E0, nu, k, amp),
                 a0_tilde=k * scene.a0 if scene.adhesive else 0.0, k=k, amp=amp,
                 pstar=p_star(E0, nu, k, amp))
+
+
+def _smoothing(scene) -> dict:
+    """The front-smoothing keywords of solve_adhesive: the scene's, else criterion's
+    defaults (the schema's defaults are the same numbers, tested)."""
+    from .criterion import FRONT_SMOOTHING, SMOOTHING_PER_RADIUS
+
+    return {"front_smoothing": scene.solver.get("front_smoothing", FRONT_SMOOTHING),
+            "smoothing_per_radius": scene.solver.get("smoothing_per_radius",
+                                                     SMOOTHING_PER_RADIUS)}
 
 
 def _solve_1d(scene: Scene, guess=None):

@@ -194,6 +194,15 @@ def test_jkr_sphere_along_a_load_unload_path():
     assert pulled.status != "partial"
 
 
+def test_front_smoothing_defaults_are_the_solvers():
+    """The scene schema documents the front-smoothing defaults that solve_adhesive uses."""
+    from spectralbem import criterion as cr
+    from spectralbem.schema import SECTIONS
+
+    assert SECTIONS["solver"]["front_smoothing"].default == cr.FRONT_SMOOTHING
+    assert SECTIONS["solver"]["smoothing_per_radius"].default == cr.SMOOTHING_PER_RADIUS
+
+
 def test_front_smoothing_grows_with_the_patch_and_stays_on_it():
     """criterion.patch_sigmas: σ = max(σ0, c·r) per patch (r = 2A/P, a disc's radius, in
     cells), and smooth_along_front averages each σ group over its own front cells only."""

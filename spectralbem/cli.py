@@ -22,16 +22,22 @@ from pathlib import Path
 
 def _info(args) -> int:
     import platform
+    from importlib import metadata
 
-    import numpy
-    import scipy
+    from . import __version__, fft, kernels
 
-    from . import __version__, fft
+    def version(dist):
+        try:
+            return metadata.version(dist)
+        except metadata.PackageNotFoundError:
+            return "not installed"
 
     print(f"spectralbem {__version__}")
-    print(f"python {platform.python_version()}, numpy {numpy.__version__}, "
-          f"scipy {scipy.__version__}")
+    print(f"python {platform.python_version()}, " + ", ".join(
+        f"{d} {version(d)}" for d in ("numpy", "scipy", "xarray", "netCDF4", "dask",
+                                      "distributed", "numba", "pyFFTW", "matplotlib")))
     print(f"FFT backend: {fft.backend()}, threads: {fft.get_threads()}")
+    print(f"compiled loops: {kernels.backend()} (SPECTRALBEM_JIT=0 selects the numpy twins)")
     return 0
 
 

@@ -53,7 +53,9 @@ def test_cli_plot_and_info(dataset, tmp_path, capsys):
     assert cli.main(["plot", str(tmp_path / "r.nc")]) == 0
     assert (tmp_path / "r.png").exists()
     assert cli.main(["info"]) == 0
-    assert "FFT backend" in capsys.readouterr().out
+    info = capsys.readouterr().out
+    assert "FFT backend" in info and "compiled loops: " in info
+    assert all(f"{d} " in info for d in ("xarray", "netCDF4", "dask", "numba"))
     assert cli.main(["plot", str(tmp_path / "nope.nc")]) == 1
     assert "does not exist" in capsys.readouterr().err
 
@@ -177,3 +179,24 @@ def test_height_map_readers(tmp_path):
     with pytest.raises(SurfaceError, match="unknown format"):
         (tmp_path / "h.xyz").write_text("1 2")
         read_heights(tmp_path / "h.xyz")
+
+
+def test_import_and_help_load_no_numerical_stack():
+    """``import spectralbem`` and ``spectralbem --help`` import neither numpy nor the FFT,
+    compiled-kernel or parallel libraries (checked in a fresh interpreter; the numerical
+    stack costs ~1 s to import); ``spectralbem.solve`` still resolves on first use."""
+    import subprocess
+    import sys
+
+    heavy = ("numpy", "scipy", "xarray", "dask", "numba", "pyfftw", "matplotlib")
+    code = ("import sys, spectralbem; from spectralbem import cli\n"
+            "try:\n    cli.main(['--help'])\nexcept SystemExit:\n    pass\n"
+            f"print(sorted(m for m in sys.modules if m.split('.')[0] in {heavy!r}))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout
+    assert out.strip().splitlines()[-1] == "[]"
+    import spectralbem
+
+    assert callable(spectralbem.solve) and spectralbem.Scene.__name__ == "Scene"
+    with pytest.raises(AttributeError, match="no attribute 'nothing'"):
+        spectralbem.nothing  # noqa: B018

@@ -41,6 +41,15 @@ def _info(args) -> int:
     return 0
 
 
+def _history(argv) -> str:
+    """A CF history line: UTC time and the command's arguments as given."""
+    import datetime
+    import shlex
+
+    now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+    return f"{now}: spectralbem {shlex.join(str(a) for a in argv)}"
+
+
 def _overrides(items) -> dict:
     from .scenes import parse_value
     from .schema import SceneError
@@ -65,7 +74,7 @@ def _check_output(path: Path):
 
 
 def _run(args) -> int:
-    from .io import write_dataset
+    from .io import STATUS_MEANING, cf_attributes, write_dataset
     from .scenes import load_scene, solve
 
     out = Path(args.output)
@@ -74,11 +83,13 @@ def _run(args) -> int:
     t = time.perf_counter()
     ds = solve(scene, progress=not args.quiet)
     ds.attrs["wall_time_s"] = time.perf_counter() - t
+    cf_attributes(ds, history=_history(args.argv))
     write_dataset(ds, out)
     status = ds["status"].values.ravel()
+    seen = dict.fromkeys(str(s) for s in status)
     print(f"{Path(args.scene).name}: model {ds.attrs['model']}, status "
-          f"{', '.join(dict.fromkeys(str(s) for s in status))}, "
-          f"{ds.attrs['wall_time_s']:.2f} s -> {out}")
+          + ", ".join(f"{s} ({STATUS_MEANING.get(s, s)})" for s in seen)
+          + f", {ds.attrs['wall_time_s']:.2f} s -> {out}")
     return 0 if all(s in ("partial", "full_contact", "detached") for s in status) else 2
 
 
@@ -196,6 +207,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
+    args.argv = list(sys.argv[1:] if argv is None else argv)
     try:
         return args.func(args)
     except KeyboardInterrupt:

@@ -21,42 +21,97 @@ from pathlib import Path
 
 import xarray as xr
 
-#: the one table of result variables: name -> (units, long name)
+#: the one table of result variables: name -> (units, long name, comment); the long name
+#: is short (plot axis labels), the comment says the rest
 SCALARS = {
-    "mean_pressure": ("Pa", "mean (nominal) pressure, compressive positive"),
-    "penetration": ("m", "penetration Δ, mean-level gauge"),
-    "area_fraction": ("1", "contact area fraction (adhesive: inside the sub-cell front)"),
-    "mu": ("1", "friction coefficient: force opposing v over normal force, Eq. (19) in 2D"),
-    "mu_lateral": ("1", "lateral force (along z × v) over normal force"),
-    "mu_profile": ("1", "friction coefficient from the rigid-profile force on the mask"),
-    "mu_dissipation": ("1", "friction coefficient from the spectral dissipation"),
-    "mu_adhesive": ("1", "adhesive friction -∮ G (n·v̂) ds / W, Eq. (23) in 2D"),
-    "G1": ("J/m²", "energy release rate at the trailing (opening) front, Eq. (20)"),
-    "G2": ("J/m²", "energy release rate at the leading (closing) front, Eq. (21)"),
-    "contact_half_width": ("m", "contact semi-width a of the sinusoid"),
-    "eccentricity": ("m", "contact eccentricity e (> 0: toward the leading edge)"),
-    "iterations": ("1", "solver iterations (adhesive: outer front iterations)"),
-    "solves": ("1", "masked linear solves"),
-    "unresolved_patches": ("1", "contact patches smaller than a disc of radius a0 (the band "
-                                "tests cannot resolve them)"),
-    "balanced_fraction": ("1", "fraction of the resolved front balanced within front_tol"),
-    "front_residual": ("1", "largest balance residual of the front in position (cells)"),
-    "front_length": ("m", "length of the balanced front of the resolved patches"),
+    "mean_pressure": ("Pa", "mean pressure", "nominal, compressive positive"),
+    "penetration": ("m", "penetration Δ", "mean-level gauge"),
+    "area_fraction": ("1", "contact area fraction",
+                      "adhesive: the area inside the balanced sub-cell front"),
+    "mu": ("1", "friction coefficient μ",
+           "force opposing v over the normal force, Eq. (19) in 2D"),
+    "mu_lateral": ("1", "lateral friction coefficient",
+                   "lateral force (along z × v) over the normal force"),
+    "mu_profile": ("1", "μ from the profile force",
+                   "friction coefficient from the rigid-profile force on the mask"),
+    "mu_dissipation": ("1", "μ from the dissipation",
+                       "friction coefficient from the spectral dissipation"),
+    "mu_adhesive": ("1", "adhesive friction μ_a", "-∮ G (n·v̂) ds / W, Eq. (23) in 2D"),
+    "G1": ("J/m²", "G1 (trailing front)",
+           "energy release rate at the trailing (opening) front, Eq. (20)"),
+    "G2": ("J/m²", "G2 (leading front)",
+           "energy release rate at the leading (closing) front, Eq. (21)"),
+    "contact_half_width": ("m", "contact half-width a", "of the sinusoid"),
+    "eccentricity": ("m", "contact eccentricity e", "> 0: toward the leading edge"),
+    "iterations": ("1", "iterations", "solver iterations (adhesive: outer front iterations)"),
+    "solves": ("1", "masked solves", "masked linear solves"),
+    "unresolved_patches": ("1", "unresolved patches",
+                           "contact patches smaller than a disc of radius a0 (the band "
+                           "tests cannot resolve them)"),
+    "balanced_fraction": ("1", "balanced fraction",
+                          "fraction of the resolved front balanced within front_tol"),
+    "front_residual": ("1", "front residual (cells)",
+                       "largest balance residual of the front in position"),
+    "front_length": ("m", "front length", "of the balanced front of the resolved patches"),
 }
 FIELDS = {
-    "heights": ("m", "rigid profile height toward the slab"),
-    "pressure": ("Pa", "contact pressure (compressive positive)"),
-    "displacement": ("m", "surface displacement into the slab"),
-    "gap": ("m", "gap between slab and indenter"),
-    "contact": ("1", "contact mask (1 in contact)"),
-    "G_front": ("1", "local conservative energy release rate G/Δγ on outer front cells"),
+    "heights": ("m", "height h", "rigid profile height toward the slab"),
+    "pressure": ("Pa", "pressure p", "contact pressure, compressive positive"),
+    "displacement": ("m", "displacement u", "surface displacement into the slab"),
+    "gap": ("m", "gap g", "gap between slab and indenter"),
+    "contact": ("1", "contact mask", "1 in contact"),
+    "G_front": ("1", "G/Δγ on the front",
+                "local conservative energy release rate over Δγ on outer front cells"),
 }
-STATUS = ("1", "partial | full_contact | detached | unstable | not_converged")
+STATUS = ("1", "status", "partial | full_contact | detached | unstable | not_converged")
 
 
 def attrs(entry) -> dict:
-    """``{"units", "long_name"}`` of a table entry (units, long name)."""
-    return {"units": entry[0], "long_name": entry[1]}
+    """``{"units", "long_name", "comment"}`` of a table entry (units, long name, comment)."""
+    out = {"units": entry[0], "long_name": entry[1]}
+    if len(entry) > 2:
+        out["comment"] = entry[2]
+    return out
+
+
+#: what each status means, for people reading a printed status
+STATUS_MEANING = {
+    "partial": "a converged state in partial contact",
+    "full_contact": "a converged state in full contact",
+    "detached": "no contact",
+    "unstable": "an equilibrium on an unstable branch",
+    "not_converged": "no verified state; see the dataset's message",
+}
+
+
+#: result variables that count things: stored as integers where every value is finite
+COUNTS = ("iterations", "solves", "unresolved_patches")
+
+
+def cf_attributes(ds: xr.Dataset, history: str | None = None) -> xr.Dataset:
+    """The CF-1.10 conventions of a result dataset, in place: ``Conventions``, ``axis`` on
+    the x and y coordinates, ``flag_values``/``flag_meanings`` on the contact mask, counts
+    as integers, one name for the solver's message (``solver_message``) and ``history``
+    (a line prepended: the command that made the file).  Returns ``ds``."""
+    import numpy as np
+
+    ds.attrs["Conventions"] = "CF-1.10"
+    for name, axis in (("x", "X"), ("y", "Y")):
+        if name in ds.coords:
+            ds[name].attrs["axis"] = axis
+    if "contact" in ds:
+        ds["contact"].attrs.update(flag_values=np.array([0, 1], np.int8),
+                                   flag_meanings="no_contact contact")
+    for k in COUNTS:
+        if k in ds and ds[k].dtype.kind == "f" and bool(np.isfinite(ds[k].values).all()):
+            ds[k] = ds[k].astype(np.int64)
+    if "message" in ds.attrs:
+        ds.attrs.setdefault("solver_message", ds.attrs["message"])
+        del ds.attrs["message"]
+    if history:
+        old = ds.attrs.get("history", "")
+        ds.attrs["history"] = history + ("\n" + old if old else "")
+    return ds
 
 
 #: a write that fails while the file system has less free space than the data plus this margin

@@ -30,7 +30,7 @@ import numpy as np
 
 from . import __version__
 from .contact import ContactError, check_penetration, sliding_direction
-from .io import FIELDS, SCALARS, STATUS
+from .io import FIELDS, SCALARS, STATUS, cf_attributes
 from .io import attrs as _attrs
 from .layers import GluedLayer, HalfSpace, PressureLayer
 from .materials import Elastic, Material, MaterialError, Prony, StandardLinearSolid, Tabulated
@@ -179,6 +179,13 @@ def parse_value(text: str):
     try:
         v = tomllib.loads(f"v = {text}")["v"]
     except tomllib.TOMLDecodeError:
+        if "," in text and "[" not in text:  # 1e3,2e3: a list of numbers
+            try:
+                v = tomllib.loads(f"v = [{text}]")["v"]
+            except tomllib.TOMLDecodeError:
+                return text
+            if all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v):
+                return v
         return text
     except RecursionError:
         raise SceneError(f"value {short(text)}: nested too deeply; scene values are numbers, "
@@ -985,6 +992,7 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
         name = scene.control[0]
         for d in out:  # per-step solver messages survive the concatenation as a variable
             msg = d.attrs.get("solver_message", d.attrs.get("message", ""))
+            d.attrs.pop("message", None)
             d["solver_message"] = ((), str(msg), {"units": "1",
                                                   "long_name": "solver message of the step"})
         ds = xr.concat(out, dim="step", combine_attrs="drop_conflicts", data_vars="all")
@@ -1009,4 +1017,4 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
         scene=json.dumps(scene.spec, sort_keys=True, default=str),
         conventions="spectralbem.conventions: SI units; u into the slab, p compressive "
                     "positive; seed Fourier convention (Im E < 0 for ω > 0)")
-    return ds
+    return cf_attributes(ds)

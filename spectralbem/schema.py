@@ -91,6 +91,7 @@ class Key:
     choices: tuple = ()
     default: object = REQUIRED
     tiny: float | None = None  # smallest magnitude allowed besides 0 (None: no floor)
+    hi_open: bool = False  # hi itself is excluded
 
     def range_text(self) -> str:
         if self.choices:
@@ -105,19 +106,19 @@ class Key:
                 return f"0 or ±[{t}, {hi}]" if -self.lo == self.hi else (
                     f"[{lo}, -{t}], 0 or [{t}, {hi}]")
             return f"0 or [{t}, {hi}]"
-        return f"{'(' if self.lo_open else '['}{lo}, {hi}]"
+        return f"{'(' if self.lo_open else '['}{lo}, {hi}{')' if self.hi_open else ']'}"
 
     def allows(self, x: float) -> bool:
         """Whether the finite number ``x`` lies in the allowed range."""
         if (self.lo is not None and (x <= self.lo if self.lo_open else x < self.lo)) or (
-                self.hi is not None and x > self.hi):
+                self.hi is not None and (x >= self.hi if self.hi_open else x > self.hi)):
             return False
         return self.tiny is None or x == 0 or abs(x) >= self.tiny
 
 
 def _k(type_, doc, units="", lo=None, hi=None, lo_open=False, choices=(), default=REQUIRED,
-       tiny=None):
-    return Key(type_, doc, units, lo, hi, lo_open, tuple(choices), default, tiny)
+       tiny=None, hi_open=False):
+    return Key(type_, doc, units, lo, hi, lo_open, tuple(choices), default, tiny, hi_open)
 
 
 #: magnitude ranges of physical inputs (SI): wide enough for any continuum contact problem,
@@ -246,7 +247,7 @@ KINDS = {
                          *LENGTH),
         },
         "self_affine": {
-            "hurst": _k("number", "Hurst exponent H", "", 0, 1, True),
+            "hurst": _k("number", "Hurst exponent H", "", 0, 1, True, hi_open=True),
             "rolloff_wavelength": _k("number", "roll-off wavelength 2π/q_r (at most the cell)",
                                      "m", 0, None, True),
             "cutoff_wavelength": _k("number", "short cut-off wavelength 2π/q_s, physical (the "

@@ -1291,7 +1291,7 @@ def solve(zeta: float, beta: float, Gamma: float, *, p_tilde: float | None = Non
     """
     import xarray as xr
 
-    from .io import STATUS
+    from .io import STATUS, attrs
 
     if (p_tilde is None) == (delta_tilde is None):
         raise ValueError("give exactly one of p_tilde (load control) and delta_tilde")
@@ -1332,7 +1332,7 @@ def solve(zeta: float, beta: float, Gamma: float, *, p_tilde: float | None = Non
         vals.update(_adhesiveless_reference(zeta, beta, Gamma, pt, ratio, modes, quad))
     data = {k_: ((), float(v), {"long_name": SCALARS.get(k_, k_), "units": "1"})
             for k_, v in vals.items() if k_ not in ("K1", "K2")}
-    data["status"] = ((), vd.status, {"long_name": STATUS[1], "units": STATUS[0]})
+    data["status"] = ((), vd.status, attrs(STATUS))
     data["sigma_tilde"] = (("x",), -p, {"long_name": "normal stress σ/p* = -p̃", "units": "1"})
     data["u_tilde"] = (("x",), u, {"long_name": "surface displacement u/Λ on the contact "
                                                 "(the period: full contact, detached)",

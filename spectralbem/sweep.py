@@ -47,6 +47,7 @@ from distributed.diagnostics.plugin import WorkerPlugin
 from .io import (
     DiskFullError,
     _full_disk,
+    cf_attributes,
     probe_netcdf,
     read_dataset,
     sha256_file,
@@ -520,10 +521,10 @@ def _assemble(files, names, keys, grids, raw, digest, version):
     attrs = {k: first.attrs[k] for k in ("title", "model", "fft_backend", "fft_threads",
                                          "conventions") if k in first.attrs}
     attrs.update(sweep_keys=json.dumps(keys), sweep_digest=digest,
-                 scene_file=json.dumps(raw, default=str), spectralbem_version=version,
+                 scene=json.dumps(raw, default=str), spectralbem_version=version,
                  created_utc=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
     res.attrs.update({k: v for k, v in attrs.items() if isinstance(v, (str, int, float))})
-    return res
+    return cf_attributes(res)
 
 
 def run_sweep(scene_file, over: list, out, *, overrides: dict | None = None,

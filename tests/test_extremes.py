@@ -54,7 +54,7 @@ def test_beta_range(beta):
     ds = sb.solve(sb.Scene.sinusoid(1.0, beta, 0.0, p_tilde=0.3, a0_tilde=0.0,
                                     cells_per_wavelength=N, ny=1))
     if ds.status.item() == "not_converged":
-        assert beta >= 1e3 and "not converged" in ds.attrs["message"]
+        assert beta >= 1e3 and "not converged" in ds.attrs["solver_message"]
         return
     assert ds.status.item() == "partial"
     finite_state(ds)

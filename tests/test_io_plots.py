@@ -200,3 +200,35 @@ def test_import_and_help_load_no_numerical_stack():
     assert callable(spectralbem.solve) and spectralbem.Scene.__name__ == "Scene"
     with pytest.raises(AttributeError, match="no attribute 'nothing'"):
         spectralbem.nothing  # noqa: B018
+
+
+def test_datasets_follow_cf_conventions(tmp_path, capsys):
+    """Every solve's dataset carries CF-1.10 attributes (axis on x and y, flag values and
+    meanings on the contact mask, counts as integers, the solver's message under one name
+    for every model), and a file written by ``spectralbem run`` records the command in
+    ``history``; the printed status says what it means."""
+    import spectralbem as sb
+    from spectralbem.scenes import load_scene
+
+    for case, over in (("jkr_sphere", {"grid.Nx": 32, "grid.Ny": 32, "adhesion.a0": 3.2e-5}),
+                       ("seed_sinusoid_1d", {}),
+                       ("seed_sinusoid_2d", {"sinusoid.cells_per_wavelength": 256,
+                                            "sinusoid.a0_tilde": 0.025})):
+        ds = sb.solve(load_scene(CASES / f"{case}.toml", overrides=over))
+        assert ds.attrs["Conventions"] == "CF-1.10", case
+        # a path keeps each step's message as a variable
+        assert "message" not in ds.attrs and "message" not in ds, case
+        assert "solver_message" in ds.attrs or "solver_message" in ds, case
+        if "contact" in ds:
+            assert ds.x.attrs["axis"] == "X" and ds.y.attrs["axis"] == "Y", case
+            assert list(ds.contact.attrs["flag_values"]) == [0, 1]
+            assert ds.contact.attrs["flag_meanings"] == "no_contact contact"
+        if "iterations" in ds:
+            assert ds.iterations.dtype.kind == "i", case
+    out = tmp_path / "j.nc"
+    assert cli.main(["run", str(CASES / "jkr_sphere.toml"), "-o", str(out), "-q", "--set",
+                     "grid.Nx=32", "--set", "grid.Ny=32", "--set", "adhesion.a0=3.2e-5"]) == 0
+    assert "(a converged state in partial contact)" in capsys.readouterr().out
+    ds = read_dataset(out)
+    assert "spectralbem run" in ds.attrs["history"] and "grid.Nx=32" in ds.attrs["history"]
+

@@ -72,7 +72,9 @@ MALFORMED = [
     ("surface.kind", "fractal", ["surface.kind", "sinusoid, bisinusoid"]),
     ("surface.amplitude", DELETE, ["surface.amplitude", "missing"]),
     ("surface", {"kind": "self_affine", "hurst": 1.2, "rolloff_wavelength": 2e-4,
-                 "rms_slope": 0.1}, ["surface.hurst", "(0, 1]"]),
+                 "rms_slope": 0.1}, ["surface.hurst", "(0, 1)"]),
+    ("surface", {"kind": "self_affine", "hurst": 1.0, "rolloff_wavelength": 2e-4,
+                 "rms_slope": 0.1}, ["surface.hurst", "1.0 is outside", "(0, 1)"]),
     ("surface", {"kind": "self_affine", "hurst": 0.8, "rolloff_wavelength": 2e-4},
      ["rms_height / surface.rms_slope", "exactly one"]),
     ("surface", {"kind": "self_affine", "hurst": 0.8, "rolloff_wavelength": 2e-4,
@@ -251,3 +253,15 @@ def test_user_guide_reference_is_current():
     """docs/user_guide.md embeds the schema reference generated from the code."""
     guide = (CASES.parent / "docs" / "user_guide.md").read_text()
     assert reference_markdown() in guide
+
+
+def test_command_line_values_comma_lists_and_words():
+    """``--set key=1e3,2e3`` is a list of numbers (a load path), as ``[1e3, 2e3]`` is; words
+    and mixed items stay text, so the schema names them."""
+    from spectralbem.scenes import parse_value
+
+    assert parse_value("1e3,2e3") == [1e3, 2e3] == parse_value("[1e3, 2e3]")
+    assert parse_value("1e3") == 1e3 and parse_value("true") is True
+    for text in ("a,b", "1,a", "true,false", "x"):
+        assert parse_value(text) == text
+

@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+import warnings
 from pathlib import Path
 
 
@@ -39,6 +40,19 @@ def _info(args) -> int:
     print(f"FFT backend: {fft.backend()}, threads: {fft.get_threads()}")
     print(f"compiled loops: {kernels.backend()} (SPECTRALBEM_JIT=0 selects the numpy twins)")
     return 0
+
+
+def _plausible(scene, strict: bool) -> None:
+    """Print the scene's plausibility warnings (stderr) before any solve; ``--strict``: stop
+    with them as the error."""
+    from .plausibility import scene_warnings
+    from .schema import SceneError
+
+    msgs = scene_warnings(scene)
+    if msgs and strict:
+        raise SceneError(["implausible (--strict): " + m for m in msgs])
+    for m in msgs:
+        print(f"warning: {m}", file=sys.stderr)
 
 
 def _history(argv) -> str:
@@ -75,13 +89,17 @@ def _check_output(path: Path):
 
 def _run(args) -> int:
     from .io import STATUS_MEANING, cf_attributes, write_dataset
+    from .plausibility import PlausibilityWarning
     from .scenes import load_scene, solve
 
     out = Path(args.output)
     _check_output(out)  # before any heavy work
     scene = load_scene(args.scene, overrides=_overrides(args.set))
+    _plausible(scene, args.strict)
     t = time.perf_counter()
-    ds = solve(scene, progress=not args.quiet)
+    with warnings.catch_warnings():  # printed above
+        warnings.simplefilter("ignore", PlausibilityWarning)
+        ds = solve(scene, progress=not args.quiet)
     ds.attrs["wall_time_s"] = time.perf_counter() - t
     cf_attributes(ds, history=_history(args.argv))
     write_dataset(ds, out)
@@ -94,11 +112,13 @@ def _run(args) -> int:
 
 
 def _sweep(args) -> int:
+    from .scenes import load_scene
     from .sweep import SweepInterrupted, parse_over, run_sweep
 
     out = Path(args.output)
     _check_output(out)
     over = [parse_over(o) for o in args.over]
+    _plausible(load_scene(args.scene, overrides=_overrides(args.set)), args.strict)
     t = time.perf_counter()
     try:
         path = run_sweep(args.scene, over, out, overrides=_overrides(args.set),
@@ -167,6 +187,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--set", action="append", metavar="SECTION.KEY=VALUE",
                    help="override a scene value (repeatable)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--strict", action="store_true",
+                   help="stop on plausibility warnings (large p/E*, steep or tall surface, "
+                        "modulus table not covering q·v, a0 large against the cut-off)")
     p.set_defaults(func=_run)
     p = cmd("sweep", "sweep a scene over parameters (dask, resumable)",
             "Solve a scene over the Cartesian product of swept values on dask.distributed "
@@ -188,6 +211,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="serve the local cluster's dask dashboard on 127.0.0.1 (default: off)")
     p.add_argument("--workers", type=int, help="local workers (default: all cores)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--strict", action="store_true",
+                   help="stop on plausibility warnings (large p/E*, steep or tall surface, "
+                        "modulus table not covering q·v, a0 large against the cut-off)")
     p.set_defaults(func=_sweep)
     p = cmd("plot", "plot a result dataset", "Plot a dataset: contact maps, fields and a "
             "profile cut (one state), a path, or the curves of a sweep.")

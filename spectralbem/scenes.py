@@ -974,7 +974,9 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
     import xarray as xr
 
     from . import fft
+    from .plausibility import warn
 
+    warn(scene)
     steps = scene.steps
     state = mask0
     out = []

@@ -1,0 +1,103 @@
+"""Plausibility of a physical scene, checked before its solve.
+
+A scene can be valid (every key inside its range) and still be a mistake: a modulus written
+in MPa as a number of pascals, a height map whose unit was forgotten, a modulus table that
+does not reach the frequencies the sliding excites.  :func:`scene_warnings` lists what looks
+implausible, each message naming the key, its value and the threshold; ``spectralbem run``
+and ``sweep`` print them before the solve (``--strict`` turns them into errors), and
+:func:`spectralbem.solve` issues them as :class:`PlausibilityWarning`.
+
+The thresholds (module constants) mark where the model's own assumptions stop holding, not
+where the solver fails: linear elasticity of a half-space (small strains: p̄/E* ≪ 1, slopes
+≪ 1), a surface much lower than the cell is wide, a viscoelastic modulus known at every
+excited frequency, an advance width a0 small against the smallest asperities
+(docs/theory.md: a0 beyond a tenth of the patches moves the area by several per cent).
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+#: mean pressure over the relaxed contact modulus E0/(1 − ν²) above which a warning is given
+PRESSURE_OVER_MODULUS = 0.1
+#: rms slope of the surface above which a warning is given (small-slope theory)
+RMS_SLOPE = 0.5
+#: rms height over the cell's larger side above which a warning is given
+HEIGHT_OVER_CELL = 0.1
+#: a0 over the surface's short-wavelength cut-off above which a warning is given
+A0_OVER_CUTOFF = 0.1
+
+
+class PlausibilityWarning(UserWarning):
+    """A scene that is valid but implausible (see :func:`scene_warnings`)."""
+
+
+def scene_warnings(scene) -> list[str]:
+    """The plausibility warnings of a physical scene (none for the seed's dimensionless
+    scenes, whose inputs are the paper's groups)."""
+    if scene.kind != "physical":
+        return []
+    out = []
+    mat, cell, h = scene.material, scene.cell, scene.heights
+    estar = mat.E0 / (1.0 - mat.nu**2)
+    name, values = scene.control
+    if name == "mean_pressure":
+        p = max(abs(float(v)) for v in values)
+        if p > PRESSURE_OVER_MODULUS * estar:
+            out.append(f"control.mean_pressure: {p:.4g} Pa is {p / estar:.3g} of the relaxed "
+                       f"contact modulus E0/(1-ν²) = {estar:.4g} Pa (warned above "
+                       f"{PRESSURE_OVER_MODULUS:g}: the linear theory assumes small strains; "
+                       "a modulus meant in MPa but written in Pa?)")
+    dx = cell.derivative(h, (1.0, 0.0))
+    dy = cell.derivative(h, (0.0, 1.0))
+    slope = float(np.sqrt(np.mean(dx**2 + dy**2)))
+    if slope > RMS_SLOPE:
+        out.append(f"surface: the rms slope is {slope:.3g} (warned above {RMS_SLOPE:g}: the "
+                   "theory assumes small slopes; heights in µm read as metres?)")
+    rms = float(np.std(h))
+    side = max(cell.Lx, cell.Ly)
+    if rms > HEIGHT_OVER_CELL * side:
+        out.append(f"surface: the rms height {rms:.4g} m is {rms / side:.3g} of the cell's "
+                   f"side {side:.4g} m (warned above {HEIGHT_OVER_CELL:g}: a forgotten "
+                   "surface.scale?)")
+    out += _table_coverage(scene)
+    out += _a0_against_cutoff(scene)
+    return out
+
+
+def _table_coverage(scene) -> list[str]:
+    """A tabulated modulus that does not cover the frequencies q·v of the scene's grid
+    (|q| from 2π/L to the Nyquist wavenumber): outside the table E is extrapolated."""
+    omega = getattr(scene.material, "omega", None)
+    speed = float(np.hypot(*scene.velocity))
+    if omega is None or speed == 0.0:
+        return []
+    cell = scene.cell
+    lo = speed * 2 * np.pi / max(cell.Lx, cell.Ly)
+    hi = speed * np.pi * np.hypot(1.0 / cell.hx, 1.0 / cell.hy)
+    if omega[0] <= lo and omega[-1] >= hi:
+        return []
+    return [f"material: the modulus table covers ω in [{omega[0]:.3g}, {omega[-1]:.3g}] "
+            f"rad/s but the sliding excites q·v in [{lo:.3g}, {hi:.3g}] rad/s; outside the "
+            "table E is extrapolated (storage constant, loss ∝ ω toward 0 and ∝ 1/ω above)"]
+
+
+def _a0_against_cutoff(scene) -> list[str]:
+    """a0 large against the smallest asperities (the self-affine cut-off wavelength)."""
+    surf = scene.spec.get("surface", {}) if isinstance(scene.spec, dict) else {}
+    cut = surf.get("cutoff_wavelength") if surf.get("kind") == "self_affine" else None
+    adhesive = np.any(np.asarray(scene.dgamma) > 0)
+    if not adhesive or not cut or scene.a0 <= A0_OVER_CUTOFF * cut:
+        return []
+    return [f"adhesion.a0: {scene.a0:.4g} m is {scene.a0 / cut:.3g} of the surface's cut-off "
+            f"wavelength {cut:.4g} m (warned above {A0_OVER_CUTOFF:g}: contact patches of "
+            "that size are barely wider than the advance band; in an elastic scene a0 is "
+            "numerical and one cell is the most accurate, docs/theory.md)"]
+
+
+def warn(scene) -> None:
+    """Issue :func:`scene_warnings` as :class:`PlausibilityWarning`."""
+    for msg in scene_warnings(scene):
+        warnings.warn(msg, PlausibilityWarning, stacklevel=3)

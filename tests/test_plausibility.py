@@ -1,0 +1,97 @@
+"""Plausibility warnings: valid scenes that look like mistakes are named before the solve."""
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from spectralbem import cli
+from spectralbem.plausibility import PlausibilityWarning, scene_warnings
+from spectralbem.scenes import load_scene, read_scene_file
+
+CASES = Path(__file__).resolve().parent.parent / "cases"
+SMALL = {"grid.Nx": 32, "grid.Ny": 32, "surface.cutoff_wavelength": 1.25e-4}
+
+
+def rough(**over):
+    return load_scene(CASES / "rubber_rough.toml", overrides={**SMALL, **over})
+
+
+def test_the_shipped_rough_rubber_case_is_plausible():
+    assert scene_warnings(rough()) == []
+
+
+@pytest.mark.parametrize("over, words", [
+    # a modulus meant in MPa written as a number of pascals: p̄ = 10.7 kPa on E0 = 2 Pa
+    ({"material.E0": 2.0, "material.Einf": 20.0},
+     ["control.mean_pressure", "1.067e+04 Pa", "of the relaxed contact modulus", "MPa"]),
+    # the same surface 20 times steeper: rms slope 2
+    ({"surface.rms_slope": 2.0}, ["surface", "rms slope is 2", "above 0.5"]),
+])
+def test_implausible_inputs_are_named(over, words):
+    msgs = scene_warnings(rough(**over))
+    assert len(msgs) == 1 and all(w in msgs[0] for w in words), msgs
+
+
+def test_a_forgotten_height_scale_is_named(tmp_path):
+    """A height map in µm read as metres: rms height 1 m in a 1 mm cell (and slopes of
+    order 1e3)."""
+    rng = np.random.default_rng(0)
+    np.save(tmp_path / "h.npy", rng.normal(size=(32, 32)))
+    sc = load_scene({"grid": {"Lx": 1e-3, "Ly": 1e-3, "Nx": 32, "Ny": 32},
+                     "surface": {"kind": "file", "path": str(tmp_path / "h.npy")},
+                     "material": {"kind": "elastic", "E": 1e6, "nu": 0.5},
+                     "control": {"penetration": 0.5}})
+    msgs = " | ".join(scene_warnings(sc))
+    assert "rms height" in msgs and "of the cell's side" in msgs and "surface.scale" in msgs
+
+
+def test_a_modulus_table_short_of_the_excited_frequencies_is_named(tmp_path):
+    """An SLS tabulated over ω in [1, 1e3] rad/s.  On a 1 mm cell of 32², sliding excites
+    q·v from v·2π/L to v·π√2/h: 25 to 569 rad/s at 4 mm/s (covered), 251 to 5.7e3 rad/s at
+    40 mm/s (not covered above 1e3)."""
+    w = np.logspace(0, 3, 31)
+    E = 2e6 * (1 - 1j * w * 1e-2) / (1 - 1j * w * 1e-3)
+    np.savetxt(tmp_path / "e.csv", np.c_[w, E.real, -E.imag], delimiter=",")
+    table = {"kind": "tabulated", "path": str(tmp_path / "e.csv"), "nu": 0.5}
+
+    def msgs(speed):
+        raw = read_scene_file(CASES / "rubber_rough.toml")
+        sc = load_scene({**raw, "material": table, "motion": {"speed": speed}},
+                        overrides=SMALL)
+        return scene_warnings(sc)
+
+    assert msgs(4e-3) == []
+    out = msgs(4e-2)
+    assert len(out) == 1 and "modulus table covers ω in [1, 1e+03]" in out[0]
+    assert "extrapolated" in out[0]
+
+
+def test_a0_large_against_the_cut_off_is_named():
+    """rough_load_unload: a0 = 7.8 µm against a cut-off of 31 µm (0.25 > 0.1)."""
+    assert any("adhesion.a0" in m and "0.25 of the surface's cut-off" in m
+               for m in scene_warnings(load_scene(CASES / "rough_load_unload.toml")))
+
+
+def test_seed_scenes_are_not_checked():
+    assert scene_warnings(load_scene(CASES / "seed_sinusoid_1d.toml")) == []
+
+
+def test_solve_warns_and_the_command_line_prints_or_stops(tmp_path, capsys):
+    import spectralbem as sb
+
+    sc = rough(**{"material.E0": 2.0, "material.Einf": 20.0})
+    with pytest.warns(PlausibilityWarning, match="control.mean_pressure"):
+        sb.solve(sc)
+    args = ["run", str(CASES / "rubber_rough.toml"), "-o", str(tmp_path / "x.nc"), "-q",
+            "--set", "material.E0=2", "--set", "material.Einf=20"]
+    args += [f"--set={k}={v}" for k, v in SMALL.items()]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the command line prints, it does not warn twice
+        assert cli.main(args) == 0
+    assert "warning: control.mean_pressure" in capsys.readouterr().err
+    assert cli.main(args + ["--strict"]) == 1
+    err = capsys.readouterr().err
+    assert "implausible (--strict): control.mean_pressure" in err
+    assert not (tmp_path / "y.nc").exists()

@@ -16,6 +16,7 @@ wrong types, numbers given with units, values out of range, inconsistent combina
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 from dataclasses import dataclass
@@ -308,7 +309,40 @@ KIND_DEFAULTS = {"layer": "half_space"}
 
 PHYSICAL = ("grid", "surface", "material", "layer", "adhesion", "motion", "control", "solver",
             "output")
-_UNIT_STRING = re.compile(r"^\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?\s*[A-Za-zμ°%/²]+")
+_UNIT_STRING = re.compile(r"^\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?\s*[A-Za-zμµ°%/²]+")
+
+
+#: schema units that accept a quantity with a unit ("2 MPa"): their pint spelling
+PINT_UNITS = {"m": "m", "Pa": "Pa", "s": "s", "m/s": "m/s", "J/m²": "J/m**2",
+              "deg": "degree"}
+
+
+@functools.lru_cache(maxsize=1)
+def _registry():
+    import pint
+
+    return pint.UnitRegistry()
+
+
+def quantity(text: str, units: str):
+    """The number of ``units`` (the schema's SI unit) in the quantity ``text`` ("2 MPa",
+    "10 um", "4 mm/s"), parsed by pint; or a message (str) saying why it cannot be."""
+    if units not in PINT_UNITS:
+        return (f"{short(text)} carries a unit; this key takes a plain number"
+                + (f" in {units}" if units and units != "1" else ""))
+    try:
+        import pint
+    except ImportError:  # pragma: no cover - pint is a dependency
+        return f"{short(text)} carries a unit; give a plain number in {units} (pint is missing)"
+    try:
+        q = _registry().Quantity(text)
+    except Exception as exc:  # noqa: BLE001 - pint's parser raises many kinds
+        return f"{short(text)}: not a quantity pint can read ({type(exc).__name__})"
+    try:
+        return float(q.to(PINT_UNITS[units]).magnitude)
+    except pint.DimensionalityError:
+        return (f"{short(text)} is not a quantity in {units} (its dimension is "
+                f"{q.dimensionality}); give it in {units} or a compatible unit")
 
 
 def _check_value(path: str, key: Key, v, problems: list):
@@ -331,9 +365,16 @@ def _check_value(path: str, key: Key, v, problems: list):
                 except ValueError:
                     pass
                 if _UNIT_STRING.match(x[:200]):
-                    return bad(f"{short(x)} carries a unit; units are fixed: give a plain "
-                               f"number{unit}", where)
-            return bad(f"expected a number{unit}, got {type(x).__name__} {short(x)}", where)
+                    q = quantity(x, key.units)
+                    if isinstance(q, str):
+                        return bad(q, where)
+                    where_, x = f"{where} = {short(x)}", q
+                    if not key.allows(x):  # name what was typed, and its SI value
+                        return bad(f"{x:.6g} {key.units} is outside the allowed range "
+                                   f"{rng}{unit}", where_)
+            if not isinstance(x, float):
+                return bad(f"expected a number{unit}, got {type(x).__name__} {short(x)}",
+                           where)
         try:
             x = float(x)
         except OverflowError:  # an integer beyond the double range
@@ -582,7 +623,12 @@ def _check_physical(out, problems):
 
 def reference_markdown() -> str:
     """The scene reference (docs/user_guide.md), generated from the schema."""
-    lines = []
+    lines = ["A number is in the key's SI unit (the units column). Keys in "
+             + ", ".join(f"`{u}`" for u in PINT_UNITS)
+             + " also take a quantity with a unit, written as a string and read by pint: "
+             '`E0 = "2 MPa"`, `cutoff_wavelength = "62.5 um"`, `speed = "4 mm/s"` (on the '
+             'command line `--set material.E0="2 MPa"`); it is stored in SI, so the '
+             "dataset's `scene` attribute holds the SI number.", ""]
 
     def table(title, spec):
         lines.append(title)

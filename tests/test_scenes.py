@@ -9,7 +9,7 @@ import pytest
 
 import spectralbem as sb
 from spectralbem import reference as ref
-from spectralbem.scenes import load_scene
+from spectralbem.scenes import load_scene, read_scene_file
 from spectralbem.schema import SceneError, reference_markdown
 
 CASES = Path(__file__).resolve().parent.parent / "cases"
@@ -52,7 +52,7 @@ MALFORMED = [
     ("grid.Ny", 0, ["grid.Ny", "[1, 65536]"]),
     ("grid.Nx", 32.5, ["grid.Nx", "integer"]),
     ("grid.Lx", -1e-3, ["grid.Lx", "[1e-09, 1000] in m"]),
-    ("grid.Lx", "1 mm", ["grid.Lx", "unit", "in m"]),
+    ("grid.Lx", "1 MPa", ["grid.Lx", "not a quantity in m", "[mass]"]),
     ("grid.Lx", DELETE, ["grid.Lx", "missing"]),
     ("grid.Lz", 1.0, ["grid.Lz", "unknown key", "Lx, Ly, Nx, Ny"]),
     ("grid", DELETE, ["grid", "missing section"]),
@@ -265,3 +265,34 @@ def test_command_line_values_comma_lists_and_words():
     for text in ("a,b", "1,a", "true,false", "x"):
         assert parse_value(text) == text
 
+
+
+@pytest.mark.parametrize("key, text, si", [
+    ("material.E0", "2 MPa", 2e6), ("material.Einf", "20 MPa", 2e7),
+    ("motion.speed", "4 mm/s", 4e-3), ("surface.cutoff_wavelength", "125 um", 1.25e-4),
+    ("surface.cutoff_wavelength", "125 µm", 1.25e-4), ("material.tau", "10 ms", 1e-2),
+])
+def test_quantities_with_units_are_converted_to_si(key, text, si):
+    """A value written with a unit (a TOML string, or --set key="2 MPa") is read by pint
+    and stored in the key's SI unit: the dataset's scene records the SI number."""
+    raw = read_scene_file(CASES / "rubber_rough.toml")
+    sc = load_scene(raw, overrides={"grid.Nx": 32, "grid.Ny": 32,
+                                    "surface.cutoff_wavelength": 1.25e-4, key: text})
+    section, name = key.split(".")
+    assert sc.spec[section][name] == pytest.approx(si, rel=1e-12)
+
+
+@pytest.mark.parametrize("key, text, words", [
+    ("material.E0", "2 mm", ["material.E0", "'2 mm' is not a quantity in Pa", "[length]"]),
+    ("material.E0", "20 TPa", ["material.E0 = '20 TPa'", "2e+13 Pa is outside",
+                               "[1, 1e+13] in Pa"]),
+    ("grid.Nx", "32 m", ["grid.Nx", "expected an integer"]),
+    ("material.nu", "0.5 m", ["material.nu", "carries a unit; this key takes a plain number"]),
+    ("material.E0", "2 bananas", ["material.E0", "not a quantity pint can read"]),
+])
+def test_quantities_that_do_not_fit_are_named(key, text, words):
+    raw = read_scene_file(CASES / "rubber_rough.toml")
+    with pytest.raises(SceneError) as e:
+        load_scene(raw, overrides={key: text})
+    msg = str(e.value)
+    assert all(w in msg for w in words), msg

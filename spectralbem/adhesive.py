@@ -365,7 +365,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
                    smoothing_per_radius: float = SMOOTHING_PER_RADIUS,
                    rtol: float = 1e-10, observables: dict | None = None,
                    criterion: str = "exact", front_tol: float = FRONT_TOL,
-                   flaw_radius: float | None = None) -> AdhesiveResult:
+                   flaw_radius: float | None = None, progress=None) -> AdhesiveResult:
     """Adhesive equilibrium under penetration or mean-pressure control.
 
     ``dgamma``: work of adhesion Δγ (J/m², scalar or per-cell map); ``a0``: advance width (m),
@@ -385,6 +385,9 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     ``flaw_radius``: radius (m) of the flaw through which a full contact may open (default
     a0; module docstring).  In an elastic scene it decides by Griffith's condition whether
     the full contact opens, so it is a physical input there, unlike a0.
+
+    ``progress``: None or a callable ``progress(iteration, text)`` called at the start of
+    every outer iteration (the command line's progress bar).
 
     Status: ``partial`` only when every resolved front cell is balanced within ``front_tol``
     cells (:func:`balance_residual`); ``not_converged`` otherwise (a cycle, an oscillation or
@@ -418,6 +421,9 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     frac, rmax = float("nan"), float("nan")
     it = 0
     for it in range(1, max_outer + 1):
+        if progress is not None:
+            progress(it, f"{phase}, {int(mask.sum())} cells in contact"
+                     + (f", balanced {frac:.3f}" if np.isfinite(frac) else ""))
         if not mask.any():
             status, message = "detached", "the contact vanished"
             p = np.zeros(cell.shape)

@@ -650,7 +650,7 @@ def _undefined(status: str, message: str, scalars: dict, skip=()) -> tuple:
     return status, message
 
 
-def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
+def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10, progress=None):
     """The seed scene on the grid: the 1D method's dimensionless names."""
     import xarray as xr
 
@@ -681,7 +681,7 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10):
                            **_smoothing(scene),
                            criterion=scene.solver.get("criterion", "exact"),
                            front_tol=scene.solver.get("front_tol", 0.5),
-                           flaw_radius=scene.flaw_radius)
+                           flaw_radius=scene.flaw_radius, progress=progress)
         p, mask, delta, status = r.pressure, r.mask, r.penetration, r.status
         out["p_front"] = r.mean_pressure
         a0e = r.a0
@@ -795,7 +795,7 @@ def _adhesiveless_mask(op, scene: Scene):
     return res.mask if res.mask.any() and not res.mask.all() else None
 
 
-def _solve_grid(scene: Scene, mask0=None):
+def _solve_grid(scene: Scene, mask0=None, progress=None):
     import xarray as xr
 
     from .adhesive import solve_adhesive
@@ -819,7 +819,7 @@ def _solve_grid(scene: Scene, mask0=None):
                            **_smoothing(scene),
                            criterion=scene.solver.get("criterion", "exact"),
                            front_tol=scene.solver.get("front_tol", 0.5),
-                           flaw_radius=scene.flaw_radius)
+                           flaw_radius=scene.flaw_radius, progress=progress)
         p, mask, delta, status = r.pressure, r.mask, r.penetration, r.status
         u = op.apply(p)
         msg = r.message
@@ -946,19 +946,21 @@ def _solve_1d(scene: Scene, guess=None):
     return ds
 
 
-def _solve_one(scene: Scene, state):
-    """One control value; ``state`` carries the mask (grid) or edges (1D) between steps."""
+def _solve_one(scene: Scene, state, progress=None):
+    """One control value; ``state`` carries the mask (grid) or edges (1D) between steps;
+    ``progress``: the adhesive front's per-iteration callback (solve_adhesive)."""
     if scene.model == "sinusoid1d":
         ds = _solve_1d(scene, guess=state)
         ok = ds.status.item() == "partial"
         return ds, ((ds.attrs["l1_tilde"], ds.attrs["l2_tilde"]) if ok else None)
     if scene.kind == "sinusoid":
-        ds = _solve_seed_grid(scene, mask0=state, rtol=scene.solver["tol"])
+        ds = _solve_seed_grid(scene, mask0=state, rtol=scene.solver["tol"],
+                              progress=progress)
         mask = ds.contact.values.astype(bool) if "contact" in ds else None
         # a detached state carries nothing: the next step starts afresh (an empty mask
         # would be 'detached' at once, whatever the load)
         return ds, mask if mask is not None and mask.any() else None
-    ds, mask = _solve_grid(scene, mask0=state)
+    ds, mask = _solve_grid(scene, mask0=state, progress=progress)
     return ds, (mask if scene.adhesive and mask.any() and not mask.all() else None)
 
 
@@ -981,13 +983,22 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
     state = mask0
     out = []
     it = steps
-    if progress and len(steps) > 1:
+    bar = None
+    if progress:
         from tqdm import tqdm
 
-        it = tqdm(steps, desc="path", unit="step")
+        if len(steps) > 1:
+            it = tqdm(steps, desc="path", unit="step")
+        if scene.adhesive and scene.model == "grid2d":
+            bar = tqdm(desc="front", unit="it", position=int(len(steps) > 1), leave=False)
     for v in it:
-        ds, state = _solve_one(scene.at_step(v), state)
+        if bar is not None:
+            bar.reset()
+        ds, state = _solve_one(scene.at_step(v), state, None if bar is None else (
+            lambda k, text: (bar.update(1), bar.set_postfix_str(text, refresh=False))))
         out.append(ds)
+    if bar is not None:
+        bar.close()
     if len(out) == 1:
         ds = out[0]
     else:

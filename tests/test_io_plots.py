@@ -232,3 +232,13 @@ def test_datasets_follow_cf_conventions(tmp_path, capsys):
     ds = read_dataset(out)
     assert "spectralbem run" in ds.attrs["history"] and "grid.Nx=32" in ds.attrs["history"]
 
+
+def test_a_single_adhesive_solve_shows_its_front_iterations(tmp_path, capsys):
+    """Without -q a single adhesive state shows a progress line per outer iteration (the
+    phase, the cells in contact and the balanced fraction of the front)."""
+    assert cli.main(["run", str(CASES / "jkr_sphere.toml"), "-o", str(tmp_path / "j.nc"),
+                     "--set", "grid.Nx=32", "--set", "grid.Ny=32", "--set",
+                     "adhesion.a0=3.2e-5", "--set", "control.mean_pressure=0"]) == 0
+    err = capsys.readouterr().err
+    assert "front:" in err and "cells in contact" in err and "balanced 1.000" in err
+

@@ -45,8 +45,20 @@ def plot_dataset(ds, path=None):
     return fig
 
 
+#: a friction coefficient below this is zero to round-off (an elastic or resting scene)
+ROUND_OFF = 1e-12
+
+
+def _zero_friction(da) -> bool:
+    """A friction variable that is zero to round-off everywhere (no panel of noise)."""
+    v = np.asarray(da.values, float)
+    v = v[np.isfinite(v)]
+    return da.name.startswith("mu") and (v.size == 0 or np.abs(v).max() < ROUND_OFF)
+
+
 def _curves(ds, xname, xlabel, title, x=None):
-    names = [n for n in (SEED_CURVES if "a_tilde" in ds else PHYS_CURVES) if n in ds]
+    names = [n for n in (SEED_CURVES if "a_tilde" in ds else PHYS_CURVES)
+             if n in ds and not _zero_friction(ds[n])]
     n = len(names)
     cols = min(3, n)
     rows = int(np.ceil(n / cols))
@@ -156,7 +168,8 @@ def plot_contact(ds, path=None):
                    vmin=min(vlo, 0.0), vmax=vhi)
     fig.colorbar(im, ax=ax, label=pl)
     mu = float(ds["mu_bar"] if seed else ds["mu"])
-    ax.set_title(f"pressure, {'μ/Λ̃' if seed else 'μ'} = {mu:.4g}")
+    ax.set_title(f"pressure, {'μ/Λ̃' if seed else 'μ'} = "
+                 + (f"{mu:.4g}" if abs(mu) >= ROUND_OFF else "0"))
     ax.set_xlabel(f"x ({unit})")
     ax.set_ylabel(f"y ({unit})")
     if panels == 4:

@@ -242,3 +242,28 @@ def test_a_single_adhesive_solve_shows_its_front_iterations(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "front:" in err and "cells in contact" in err and "balanced 1.000" in err
 
+
+
+def test_no_panel_of_round_off_friction():
+    """An elastic path has μ and μ_a zero to round-off (|μ| ~ 1e-17): no panel plots that
+    noise; a viscoelastic state's μ keeps its panel."""
+    import matplotlib.pyplot as plt
+
+    import spectralbem as sb
+    from spectralbem.plotting import plot_dataset
+    from spectralbem.scenes import load_scene
+
+    ds = sb.solve(load_scene(CASES / "jkr_sphere.toml", overrides={
+        "grid.Nx": 32, "grid.Ny": 32, "adhesion.a0": 3.2e-5}))
+    assert float(abs(ds.mu).max()) < 1e-12
+    fig = plot_dataset(ds)
+    labels = [ax.get_ylabel() for ax in fig.axes if ax.get_visible()]
+    plt.close(fig)
+    assert "area fraction" in labels and not any(lb.startswith("μ") for lb in labels)
+    ds = sb.solve(load_scene(CASES / "rubber_rough.toml", overrides={
+        "grid.Nx": 32, "grid.Ny": 32, "surface.cutoff_wavelength": 1.25e-4,
+        "control.mean_pressure": [1e4, 2e4]}))
+    fig = plot_dataset(ds)
+    labels = [ax.get_ylabel() for ax in fig.axes if ax.get_visible()]
+    plt.close(fig)
+    assert "μ" in labels

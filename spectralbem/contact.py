@@ -8,7 +8,7 @@ adhesion: σ = 0 at ∂Ω).
 * Viscoelastic steady sliding (non-symmetric C): active set on the contact mask with the masked
   Krylov solver of :mod:`spectralbem.masked` — cells with p < 0 leave, cells with g < 0 join —
   started from the elastic solution with the symmetric part of the kernel.  The LCP is uniquely
-  solvable because P C P has a positive-definite symmetric part (criterion.md §3.1).
+  solvable because P C P has a positive-definite symmetric part (docs/derivations.md §8).
 
 Outputs (:class:`ContactResult`): pressure p (Pa), displacement u (m, into the slab), gap g (m),
 mask, mean pressure p̄, penetration Δ (mean-level gauge for the half-space), contact area
@@ -18,7 +18,7 @@ fraction, and the friction coefficient of seed Eq. (19) generalised to 2D::
     μ_⊥ = -(1/(A0 p̄)) ∫ p (v̂⊥·∇h) d²x       (lateral force, v̂⊥ = ẑ × v̂)
 
 with the exact spectral gradient of the rigid profile, cross-checked by the spectral dissipation
-form (physics.md §4.2).
+form (docs/derivations.md §5).
 """
 
 from __future__ import annotations
@@ -77,7 +77,7 @@ def friction(op: SpectralOperator, heights: np.ndarray, p: np.ndarray, u: np.nda
     * ``mu_lateral`` — the same along v̂⊥ = ẑ × v̂ (lateral force / normal force);
     * ``mu_profile`` — the force on the rigid indenter, -(1/(A0 p̄)) ∫ p (v̂·∇h) d²x; equal to
       ``mu`` in the continuum (u = w on the contact), they differ by the edge discretisation;
-    * ``mu_dissipation`` — the spectral dissipation form (physics.md §4.2), equal to ``mu``
+    * ``mu_dissipation`` — the spectral dissipation form (docs/derivations.md §5), equal to ``mu``
       by Parseval (a check of the Fourier conventions).
     """
     cell = op.cell

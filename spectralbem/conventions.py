@@ -4,7 +4,7 @@ Units
     SI throughout: lengths in m, pressures and moduli in Pa, times in s, velocities in m/s,
     work of adhesion Δγ in J/m².  The solver is linear, so any consistent unit system works.
 
-Signs (the seed's, checked in physics.md §0.1 and by tests/test_spectral.py)
+Signs (the seed's, checked in docs/derivations.md §1 and by tests/test_spectral.py)
     * Fourier transform ``f(q, ω) = ∫dt d²x f e^{-i(q·x - ωt)}`` (seed Eq. A.7): a passive
       material has ``Im E(ω) < 0`` for ω > 0 (conjugate of the engineering ``E' + iE''``).
     * Steady sliding ``f(x, t) = f(x - v t)``: the indenter moves along +v relative to the slab.
@@ -15,10 +15,10 @@ Signs (the seed's, checked in physics.md §0.1 and by tests/test_spectral.py)
       ``u = h - max(h) + Δ``; the gap ``g = u - w ≥ 0``.
     * Gauge: for a half-space the q = 0 displacement mode is dropped, so Δ is measured from the
       mean level of the deformed surface (the seed's log|2 sin(kx/2)| kernel).
-    * Energies use the compressive pressure (physics.md §0.2 item 2): ``U = ½∫p u ≥ 0``.
+    * Energies use the compressive pressure (docs/derivations.md §3): ``U = ½∫p u ≥ 0``.
 
 Dimensionless groups of the sinusoid h = Λ cos(kx) (seed Section 4, with the corrected Γ of
-physics.md §0.2 item 1)
+docs/derivations.md §2)
     ã = k a, ẽ = k e, p̃ = p/p* with p* = E0 k Λ/(2(1-ν²)), Δ̃ = Δ/Λ, Λ̃ = kΛ, ζ = k v τ,
     β = E∞/E0, Γ = (1-ν²)Δγ/(π E0 k Λ²), ã0 = k a0.
 """

@@ -1,5 +1,5 @@
 """The contact-domain criterion on the grid: the seed's local energy balance (Eqs. 3, 8-10)
-applied to whole front layers (criterion.md §4).
+applied to whole front layers (docs/derivations.md §9, docs/theory.md).
 
 At fixed Δ, for the mask A (the state):
 
@@ -14,7 +14,7 @@ The work of each band cell is attributed to its nearest front cell; per front ce
 ``F = Σ δL_j / Σ Δγ_j h² - 1`` (per-cell Δγ maps are supported).  Trailing (v̂·n < 0) and
 leading (v̂·n > 0) parts of the front are tested in separate solves, so a y-invariant mask
 reproduces the 1D closure Eqs. (16)-(17) with the other edge fixed.  Single-cell tests are
-never used: they carry a mesh-independent bias (criterion.md §4.2).
+never used: they carry a mesh-independent bias (docs/derivations.md §9).
 
 Closing is evaluated with the edge at the cell boundary x_b, opening with the edge at
 x_b - a0; F is interpolated linearly between them to the sub-cell front l*.  The band is
@@ -404,12 +404,12 @@ def predictor_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np
                     dgamma, a0: float, *, u: np.ndarray | None = None,
                     front_smoothing: float = FRONT_SMOOTHING,
                     smoothing_per_radius: float = SMOOTHING_PER_RADIUS) -> FrontTest:
-    """The zero-extra-solve predictor of criterion.md §4.3 (modified VCCT): the closing and
+    """The zero-extra-solve predictor of docs/derivations.md §10 (modified VCCT): the closing and
     opening balances of :func:`front_tests` with the post-perturbation fields replaced by the
     current ones translated by a0 along the front normal (the tip field assumed to move
     rigidly): a closing-band cell gets the pressure found a0 inside it, δL_j = −½ a g_j(A)
     p(x_j − a0 n̂); an opening-band cell gets the gap found a0 outside it.  With one layer
-    this is ½ t_i g_j a of the inner neighbour.  Error ≈ 4.7 h/a in δL (criterion.md App. A1):
+    this is ½ t_i g_j a of the inner neighbour.  Error ≈ 4.7 h/a in δL (docs/derivations.md §10):
     use it to bring the front near balance, then the exact tests.  No solves; the energy
     split (δU, δL_P, G_close) is not available (nan).
     """
@@ -452,7 +452,7 @@ def adjoint_weights(op: SpectralOperator, mask: np.ndarray, p: np.ndarray,
     """ψ = -C^O p - Cᵀ λ̃ with C_AAᵀ λ = (-C^O p)|_A (one transposed masked solve).
 
     For any closure A → A ∪ D at fixed Δ, Eq. (10) splits exactly into cells:
-    δL_P = a Σ_{j∈D} p_j(A ∪ D) ψ_j (criterion.md §4.6), whatever D is.
+    δL_P = a Σ_{j∈D} p_j(A ∪ D) ψ_j (docs/derivations.md §11), whatever D is.
     """
     r = -op.apply_odd(p)
     res = solve_masked(op, mask, r, rtol=rtol, transpose=True)

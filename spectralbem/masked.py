@@ -5,7 +5,7 @@ Solves ``(C p)_i = b_i`` for i ∈ A with ``p = 0`` off A (seed Eq. (15) on a gr
 
 * Symmetric operator (elastic, or v = 0): conjugate gradients.
 * Non-symmetric (viscoelastic sliding): BiCGSTAB with the Fourier preconditioner
-  ``M = P F⁻¹[1/Ĉ] F P`` (criterion.md §3.3-3.4), falling back to right-preconditioned
+  ``M = P F⁻¹[1/Ĉ] F P`` (docs/derivations.md §8), falling back to right-preconditioned
   GMRES(m) (m = 300 where memory allows) when BiCGSTAB breaks down or stagnates.  The
   masked matrix P C P has a positive-definite symmetric part (Re 1/E > 0), so both are well
   posed.

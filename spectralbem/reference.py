@@ -1,8 +1,8 @@
-"""Closed-form reference solutions (physics.md §1-§4), usable by users and by the tests.
+"""Closed-form reference solutions (docs/derivations.md §6-§7), usable by users and by the tests.
 
 Dimensionless sinusoid variables are the seed's (Section 4): ã = ka, p̃ = p/p* with
 p* = E0* k Λ/2, Δ̃ = Δ/Λ (mean-level gauge), and the corrected adhesion parameter
-Γ = (1-ν²)Δγ/(π E0 k Λ²) (physics.md §0.2 item 1).
+Γ = (1-ν²)Δγ/(π E0 k Λ²) (docs/derivations.md §2).
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
 # ---------------------------------------------------------------------------------------------
-# Westergaard (1939): elastic adhesiveless sinusoid, physics.md §1
+# Westergaard (1939): elastic adhesiveless sinusoid, docs/derivations.md §7
 
 
 def westergaard_a(p_tilde):
@@ -34,11 +34,13 @@ def westergaard_pressure(x, a, wavelength, p_star):
 
 
 # ---------------------------------------------------------------------------------------------
-# Johnson (1995): adhesive elastic sinusoid, physics.md §2 (β scales the modulus: ζ → ∞ limit)
+# Johnson (1995): adhesive elastic sinusoid, docs/derivations.md §7
+# (β scales the modulus: the ζ → ∞ limit)
 
 
 def johnson_p(a_tilde, Gamma, beta=1.0):
-    """p̃(ã) = β sin²(ã/2) - 2√(βΓ) √tan(ã/2) (Eq. of §2.3/§2.6)."""
+    """p̃(ã) = β sin²(ã/2) - 2√(βΓ) √tan(ã/2): Johnson's equilibrium G = Δγ in the seed's
+    variables, with the modulus scaled by β (the ζ → ∞ limit; docs/derivations.md §7)."""
     t = np.asarray(a_tilde) / 2
     return beta * np.sin(t) ** 2 - 2.0 * np.sqrt(beta * Gamma) * np.sqrt(np.tan(t))
 
@@ -99,7 +101,7 @@ def johnson_special_points(Gamma, beta=1.0):
 
 
 def johnson_G_asymmetric(a_tilde, e_tilde, l1_tilde, l2_tilde, p_tilde, Gamma):
-    """G_i/Δγ = cot(ã/2) B_i²/(16Γ), B_i = cos ẽ - cos(k l_i) - 2p̃ (physics.md §2.4)."""
+    """G_i/Δγ = cot(ã/2) B_i²/(16Γ), B_i = cos ẽ - cos(k l_i) - 2p̃ (docs/derivations.md §7)."""
     c = 1.0 / np.tan(a_tilde / 2)
     B1 = np.cos(e_tilde) - np.cos(l1_tilde) - 2 * p_tilde
     B2 = np.cos(e_tilde) - np.cos(l2_tilde) - 2 * p_tilde
@@ -107,7 +109,7 @@ def johnson_G_asymmetric(a_tilde, e_tilde, l1_tilde, l2_tilde, p_tilde, Gamma):
 
 
 # ---------------------------------------------------------------------------------------------
-# Adhesiveless viscoelastic sinusoid, physics.md §4.3
+# Adhesiveless viscoelastic sinusoid, docs/derivations.md §7
 
 
 
@@ -128,7 +130,7 @@ def sls_ratio(zeta, beta):
 
 
 # ---------------------------------------------------------------------------------------------
-# Hertz and JKR sphere, physics.md §3.1; periodic correction §3.4
+# Hertz and JKR sphere, docs/derivations.md §7; periodic correction §6
 
 #: Δ_periodic = Δ_isolated - PERIODIC_LATTICE_CONSTANT · P/(E* L) on a square lattice of side L
 PERIODIC_LATTICE_CONSTANT = 1.241493

@@ -20,7 +20,7 @@ Kernel (seed Eq. (13) / (A.18), with p = -σ so that u = ∫ C p)
 Edge energy balance (Eqs. 3, 7-10, 16-17, 20-21) with an explicit advance width a0
     δL_i is the work of Eq. (8) of closing the strip of width a0 just outside edge i at fixed Δ
     (the other edge fixed): ``δL = ½∫_strip g₋ t₊ dx`` with the gap g₋ before and the tensile
-    stress t₊ = -p₊ after closure (physics.md §0.2 item 2), integrated by Gauss-Jacobi
+    stress t₊ = -p₊ after closure (docs/derivations.md §3), integrated by Gauss-Jacobi
     quadrature that carries the √ end behaviours.  Equilibrium: δL_i/a0 = Δγ at both edges.
     δU (Eq. 9) and δL_P (Eq. 10) are computed on the same perturbation; G_i = δU_i/a0, which
     at equilibrium is Eq. (20)/(21).  a0 = 0 selects the strict limit through the SIF:
@@ -841,7 +841,7 @@ class Sinusoid1D:
         return d.a * np.pi * np.exp(-1j * n * self.k * d.c) * series
 
     def friction_dissipation(self, state: State, nmax: int = 200_000) -> float:
-        """μ from the dissipation, physics.md §4.2 in 1D:
+        """μ from the dissipation, docs/derivations.md §5 in 1D:
         μ = 4(1-ν²)/(λ² p∞) Σ_{n>0} |p_n|² Im[1/E(nkv)].
 
         The sum is taken to ``nmax`` and its tail added from the edge asymptote
@@ -1377,7 +1377,7 @@ def _modulus_ratio(zeta, beta) -> complex:
 def _closed_form(status: str, p_tilde, delta_tilde, ratio):
     """(scalars, k x, p̃, u/Λ) of a full contact or detached state over one period.
 
-    Full contact (load control; physics.md §4.3): p̃(x) = p̃∞ + Re[(E/E0) e^{ikx}],
+    Full contact (load control; docs/derivations.md §7): p̃(x) = p̃∞ + Re[(E/E0) e^{ikx}],
     μ/Λ̃ = -Im[E/E0]/(2p̃∞), Δ̃ = 1 (zero-mean gauge: the mean gap Λ - Δ vanishes), no edges
     (G = 0, no adhesive friction).  Detached: no contact, no pressure, a flat surface, with
     ``delta_tilde`` the prescribed Δ̃ or, under load control, the Δ̃ of the pull-off (0 without

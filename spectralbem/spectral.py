@@ -5,7 +5,7 @@ Pressure → displacement on an Nx × Ny periodic grid of a cell Lx × Ly::
     u(q) = Ĉ(q) p(q),   Ĉ(q) = 2(1-ν²) S(|q|d) / (E(q·v) |q|)      (A.3 with A.8, p = -σ)
 
 * Array layout: ``f[i, j]`` is the value at ``x = i·hx, y = j·hy`` (cell centres); axis 0 is x.
-* ``u`` is positive *into* the slab, ``p`` positive in compression (physics.md §0.1).
+* ``u`` is positive *into* the slab, ``p`` positive in compression (docs/derivations.md §1).
 * The q = 0 mode follows the layer (:mod:`spectralbem.layers`): dropped for the half-space and
   the pressure-loaded layer (zero-mean gauge), finite for the glued layer.
 * Elastic scenes (or v = 0) build a real kernel and never evaluate E(ω); a half-space never
@@ -13,8 +13,9 @@ Pressure → displacement on an Nx × Ny periodic grid of a cell Lx × Ly::
 * Even/odd split (Eq. 2): C^E has kernel Re Ĉ (symmetric matrix), C^O has i Im Ĉ
   (antisymmetric matrix).
 * Nyquist modes: the kernel is made exactly Hermitian on the discrete grid,
-  Ĉ_k ← ½(Ĉ_k + conj Ĉ_{-k}), so the operator is an exact real matrix (criterion.md §1): at the
-  self-conjugate bins this zeroes Im Ĉ.  The spectral derivative is treated the same way.
+  Ĉ_k ← ½(Ĉ_k + conj Ĉ_{-k}), so the operator is an exact real matrix
+  (docs/derivations.md §8): at the self-conjugate bins this zeroes Im Ĉ.  The spectral
+  derivative is treated the same way.
 * One application costs one forward r2c and one inverse c2r FFT; the 1/(Nx Ny) normalisation is
   folded into the stored kernel.
 """
@@ -251,7 +252,7 @@ class SpectralOperator:
         return 0.5 * self.cell.cell_area * float(np.sum(w * self.kernel.real * np.abs(P) ** 2) / n)
 
     def dissipation_friction_force(self, p: np.ndarray, direction) -> float:
-        """Spectral dissipation form of the friction force along d̂ (physics.md §4.2), in N.
+        """Spectral dissipation form of the friction force along d̂ (docs/derivations.md §5), in N.
 
         F = -∫ p (d̂·∇u) d²x = (1/A0) Σ_q (q·d̂) Im Ĉ(q) |p_q|²: it sees only C^O and is
         the viscoelastic dissipation rate divided by |v| when d̂ = v̂.

@@ -86,9 +86,9 @@ def main(argv=None):
                          "(see docs/validation.md)")
 
 
-#: Δγ of the JKR validation: the zero-load JKR radius (9πΔγR²/(2E*))^(1/3) is 0.1 L, the
-#: largest contact the acceptance allows (issue 4: radius ≤ 0.1 L); at 1024² it has 102 cells
-#: and the pull-off radius (1/4)^(1/3) of it 65, above the ≥ 50 cells asked for
+#: Δγ of the JKR validation: the zero-load JKR radius (9πΔγR²/(2E*))^(1/3) is 0.1 L (small
+#: enough for the periodic images to move it by O((a/L)³) only, docs/derivations.md §6); at
+#: 1024² it has 102 cells and the pull-off radius (1/4)^(1/3) of it 65
 W_JKR = 2 * 0.1**3 / (9 * np.pi)
 
 

@@ -27,7 +27,7 @@ test: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python -m pytest -n $(JOBS) --dist loadgroup -q
 
 validate: $(STAMP)
-	MPLBACKEND=Agg $(BIN)/python -m spectralbem.validate
+	MPLBACKEND=Agg $(BIN)/python -m spectralbem.validate -o docs
 
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet -e '.[test,bench]'

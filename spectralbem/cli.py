@@ -150,7 +150,7 @@ def _validate(args) -> int:
     from .validate import main as vmain
 
     try:
-        vmain(["--quick"] if args.quick else [])
+        vmain((["--quick"] if args.quick else []) + ["-o", str(args.output)])
     except SystemExit as exc:  # validate reports a failed tolerance this way
         if exc.code not in (None, 0):
             raise RuntimeError(str(exc.code)) from None
@@ -222,8 +222,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_plot)
     p = cmd("validate", "run the validation suite (make validate)",
             "Run the 2D solver against the 1D method and the references; writes "
-            "docs/validation.md.")
+            "validation.md and figures/ into -o (default: the current directory).")
     p.add_argument("--quick", action="store_true", help="a few points only")
+    p.add_argument("-o", "--output", default=".", help="output folder (default: .)")
     p.set_defaults(func=_validate)
     p = cmd("info", "versions, FFT backend and threads",
             "Print versions, the FFT backend and thread count.")

@@ -1,5 +1,6 @@
 """``make validate``: the 2D grid solver against the 1D method (y-invariant sinusoid) and against
-the oblique-sliding reduction; writes docs/validation.md and docs/figures/validation_*.png.
+the oblique-sliding reduction; writes validation.md and figures/validation_*.png into the folder
+``-o`` names (default: the current directory; ``make validate`` writes docs/).
 
 β = 10, Γ = 0.008, ã0 = 0.01, p̃∞ ∈ {0.05, 0.15}, ζ from 1e-3 to 1e2.  The grid resolves
 both a0 (≥ 8 layers) and the relaxation length vτ (≥ 8 cells): cells per wavelength
@@ -62,7 +63,12 @@ def compare(zeta, p_tilde, direction_deg=0.0, ny=2, n=None):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--quick", action="store_true", help="5 ζ points, one load")
+    ap.add_argument("-o", "--output", type=Path, default=Path("."),
+                    help="folder of the report validation.md and figures/ (default: the "
+                         "current directory; make validate writes docs/)")
     args = ap.parse_args(argv)
+    if not args.output.is_dir():
+        raise SystemExit(f"validate: output folder {str(args.output)!r} does not exist")
     zetas = np.logspace(-3, 2, 5 if args.quick else 16)
     loads = (0.15,) if args.quick else (0.05, 0.15)
     rows = []
@@ -80,10 +86,10 @@ def main(argv=None):
     print("oblique 40°:", {k: f"{oblique[k][2]:+.1e}" for k in KEYS})
     jkr = [] if args.quick else jkr_sphere()
     rough = None if args.quick else rough_cycle()
-    ok = write_report(rows, oblique, jkr, rough, fractional)
+    ok = write_report(rows, oblique, jkr, rough, fractional, args.output)
     if not ok:
         raise SystemExit("validate: the 2D solver is outside tolerance against the 1D method "
-                         "(see docs/validation.md)")
+                         f"(see {args.output / 'validation.md'})")
 
 
 #: Δγ of the JKR validation: the zero-load JKR radius (9πΔγR²/(2E*))^(1/3) is 0.1 L (small
@@ -215,13 +221,13 @@ def _table(rows) -> list:
     return lines
 
 
-def write_report(rows, oblique, jkr=(), rough=None, fractional=()):
+def write_report(rows, oblique, jkr=(), rough=None, fractional=(), out: Path = Path(".")):
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    figdir = ROOT / "docs" / "figures"
+    figdir = out / "figures"
     figdir.mkdir(parents=True, exist_ok=True)
     fig, ax = plt.subplots(1, 2, figsize=(11, 4), constrained_layout=True)
     for p in sorted({r["p_tilde"] for r in rows}):
@@ -323,7 +329,7 @@ Hysteresis: at {rough['p'][0]:g} Pa the contact covers {rough['area'][0]:.4f} of
 loading and {rough['area'][2]:.4f} on unloading ({100 * (rough['area'][2] / rough['area'][0]
                                                       - 1):+.0f} %).
 """
-    (ROOT / "docs" / "validation.md").write_text(text)
+    (out / "validation.md").write_text(text)
     return ok
 
 

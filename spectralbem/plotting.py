@@ -132,20 +132,78 @@ def _cut_along(field_, i0, j0, vx, vy):
     return s, ii, jj
 
 
+def _title_block(ds, seed: bool) -> str:
+    """Scene, material, sliding velocity, load, μ and contact area in one line each."""
+    import json
+
+    try:
+        spec = json.loads(ds.attrs.get("scene", "{}"))
+    except ValueError:
+        spec = {}
+    name = ds.attrs.get("title", "").replace("spectralbem result: ", "") or "state"
+    mu = float(ds["mu_bar"] if seed else ds["mu"])
+    mu_text = f"{mu:.4g}" if abs(mu) >= ROUND_OFF else "0"
+    area = float(ds["area_fraction"]) if "area_fraction" in ds else float(
+        ds["contact"].values.mean())
+    if seed:
+        a = ds.attrs
+        return (f"{name}: ζ = {a.get('zeta', float('nan')):g}, β = "
+                f"{a.get('beta', float('nan')):g}, Γ = {a.get('Gamma', float('nan')):g}, "
+                f"p̃ = {float(ds['p_tilde']):.4g}, μ/Λ̃ = {mu_text}, "
+                f"ã = {float(ds['a_tilde']):.4g}, status {ds['status'].item()}")
+    mat = spec.get("material", {})
+    mtext = ", ".join(f"{k} {v:g}" for k, v in mat.items()
+                      if k != "kind" and isinstance(v, (int, float)))
+    v = float(np.hypot(ds.attrs.get("velocity_x", 0.0), ds.attrs.get("velocity_y", 0.0)))
+    return (f"{name} — {mat.get('kind', '')} ({mtext}); v = {v:.3g} m/s; "
+            f"p̄ = {float(ds['mean_pressure']):.4g} Pa; μ = {mu_text}; "
+            f"contact area {area:.4f}; {ds['status'].item()}")
+
+
+def _cut(ds, p, x, y):
+    """The profile cut through the highest pressure along the sliding direction (x if at
+    rest): (distance along it, row and column indices, unit vector in the (x, y) plane)."""
+    vx, vy = ds.attrs.get("velocity_x", 0.0), ds.attrs.get("velocity_y", 0.0)
+    if vx == 0 and vy == 0:
+        vx = 1.0
+    hx, hy = x[1] - x[0], (y[1] - y[0]) if len(y) > 1 else 1.0
+    i0, j0 = np.unravel_index(np.argmax(p), p.shape)
+    s, ii, jj = _cut_along(p, i0, j0, vx / hx, vy / hy)
+    norm = max(abs(vx / hx), abs(vy / hy))
+    return s * np.hypot(vx / norm, vy / norm), ii, jj, np.array([vx, vy]) / np.hypot(vx, vy)
+
+
+def _draw_cut(ax, x, y, ii, jj):
+    """The cut's cells as a dashed line on a map (broken where it wraps around the cell)."""
+    xs, ys = x[ii], y[jj]
+    jump = np.flatnonzero((np.abs(np.diff(xs)) > 0.5 * np.ptp(x))
+                          | (np.abs(np.diff(ys)) > 0.5 * max(np.ptp(y), 1e-300))) + 1
+    for seg in np.split(np.arange(xs.size), jump):
+        ax.plot(xs[seg], ys[seg], "--", color="C2", lw=0.9)
+
+
 def plot_contact(ds, path=None):
-    """Grid state: contact map (front coloured by G/Δγ when adhesive), pressure and gap
-    fields, and a profile cut through the highest pressure along the sliding direction."""
+    """Grid state: a title block (scene, material, v, p̄, μ, area, status); the contact map
+    with the front coloured by G/Δγ when adhesive and the sliding direction; the pressure
+    (diverging around p = 0, non-contact masked); the gap (log scale); a profile cut through
+    the highest pressure along the sliding direction, drawn on the maps and zoomed to the
+    contact."""
+    from matplotlib import colors
+
     seed = "pressure_tilde" in ds
     scale, unit = (1.0, "k⁻¹") if seed else (1e3, "mm")
     x = ds["x"].values * scale
     y = ds["y"].values * scale
     p = ds["pressure_tilde"].values if seed else ds["pressure"].values
     pl, pu = ("p/p*", 1.0) if seed else ("pressure (kPa)", 1e-3)
+    contact = ds["contact"].values.astype(bool)
     ext = (x[0], x[-1], y[0], y[-1])
     panels = 3 if seed or "gap" not in ds else 4
-    fig, axes = plt.subplots(1, panels, figsize=(4.4 * panels, 4), constrained_layout=True)
+    fig, axes = plt.subplots(1, panels, figsize=(4.4 * panels, 4.3), constrained_layout=True)
+    fig.suptitle(_title_block(ds, seed), fontsize=9)
+    dist, ii, jj, vhat = _cut(ds, p, x, y)
     ax = axes[0]
-    ax.imshow(ds["contact"].values.T, origin="lower", extent=ext, cmap="Greys", aspect="auto",
+    ax.imshow(contact.T, origin="lower", extent=ext, cmap="Greys", aspect="auto",
               vmin=0, vmax=1.6)
     if "G_front" in ds:
         G = ds["G_front"].values
@@ -156,56 +214,69 @@ def plot_contact(ds, path=None):
         sc = ax.scatter(X[ok], Y[ok], c=np.clip(G[ok], lo, hi), s=4, cmap="coolwarm",
                         marker="s", vmin=lo, vmax=hi)
         fig.colorbar(sc, ax=ax, label="local G/Δγ on the front")
-    frac = float(ds["contact"].values.mean())
+    if not seed and (ds.attrs.get("velocity_x", 0.0) or ds.attrs.get("velocity_y", 0.0)):
+        L = 0.18 * min(np.ptp(x), max(np.ptp(y), 1e-300))
+        x0, y0 = x[0] + 0.12 * np.ptp(x), y[0] + 0.12 * np.ptp(y)
+        ax.annotate("v", (x0 + L * vhat[0], y0 + L * vhat[1]), (x0, y0), color="C1",
+                    arrowprops=dict(arrowstyle="->", color="C1", lw=2), fontsize=10)
+    frac = float(ds["area_fraction"]) if "area_fraction" in ds else float(contact.mean())
     ax.set_title(f"contact (area fraction {frac:.3f})")
-    ax.set_xlabel(f"x ({unit})")
-    ax.set_ylabel(f"y ({unit})")
     ax = axes[1]
+    pp = np.ma.masked_where(~contact, p * pu)
     # robust colour scale: isolated tensile spikes at front corners would hide the field
-    pv = p[p != 0] * pu if np.any(p != 0) else np.zeros(1)
+    pv = p[contact] * pu if contact.any() else np.zeros(1)
     vlo, vhi = np.percentile(pv, [1, 99])
-    im = ax.imshow(p.T * pu, origin="lower", extent=ext, cmap="magma", aspect="auto",
-                   vmin=min(vlo, 0.0), vmax=vhi)
+    if vlo < 0 < vhi:  # adhesive: tension blue, compression red, p = 0 white
+        norm = colors.TwoSlopeNorm(vmin=vlo, vcenter=0.0, vmax=vhi)
+        im = ax.imshow(pp.T, origin="lower", extent=ext, cmap="RdBu_r", norm=norm,
+                       aspect="auto")
+    else:
+        im = ax.imshow(pp.T, origin="lower", extent=ext, cmap="magma", aspect="auto",
+                       vmin=min(vlo, 0.0), vmax=vhi)
+    ax.set_facecolor("0.85")
     fig.colorbar(im, ax=ax, label=pl)
-    mu = float(ds["mu_bar"] if seed else ds["mu"])
-    ax.set_title(f"pressure, {'μ/Λ̃' if seed else 'μ'} = "
-                 + (f"{mu:.4g}" if abs(mu) >= ROUND_OFF else "0"))
-    ax.set_xlabel(f"x ({unit})")
-    ax.set_ylabel(f"y ({unit})")
+    ax.set_title("pressure (grey: no contact)")
     if panels == 4:
         ax = axes[2]
-        im = ax.imshow(ds["gap"].values.T * 1e6, origin="lower", extent=ext, cmap="viridis",
+        gap = np.ma.masked_where(ds["gap"].values <= 0, ds["gap"].values * 1e6)
+        norm = colors.LogNorm(vmin=max(float(gap.min()), 1e-6 * float(gap.max())),
+                              vmax=float(gap.max())) if gap.count() else None
+        im = ax.imshow(gap.T, origin="lower", extent=ext, cmap="viridis", norm=norm,
                        aspect="auto")
+        ax.set_facecolor("0.85")
         fig.colorbar(im, ax=ax, label="gap (μm)")
-        ax.set_title("gap")
+        ax.set_title("gap (log scale; grey: contact)")
+    for ax in axes[:-1]:
+        _draw_cut(ax, x, y, ii, jj)
         ax.set_xlabel(f"x ({unit})")
         ax.set_ylabel(f"y ({unit})")
     ax = axes[-1]
-    vx, vy = ds.attrs.get("velocity_x", 1.0), ds.attrs.get("velocity_y", 0.0)
-    if vx == 0 and vy == 0:
-        vx = 1.0
-    hx, hy = x[1] - x[0], (y[1] - y[0]) if len(y) > 1 else 1.0
-    i0, j0 = np.unravel_index(np.argmax(p), p.shape)
-    s, ii, jj = _cut_along(p, i0, j0, vx / hx, vy / hy)
-    dist = s * np.hypot(vx / max(abs(vx / hx), abs(vy / hy)), vy / max(abs(vx / hx),
-                                                                        abs(vy / hy)))
+    on = contact[ii, jj]
+    if on.any() and not on.all():  # zoom to the contact along the cut, with a margin
+        k = np.flatnonzero(on)
+        span = dist[k.max()] - dist[k.min()]
+        lim = (dist[k.min()] - 0.6 * span - 2 * abs(dist[1] - dist[0]),
+               dist[k.max()] + 0.6 * span + 2 * abs(dist[1] - dist[0]))
+    else:
+        lim = (dist[0], dist[-1])
+    sel = (dist >= lim[0]) & (dist <= lim[1])
     if seed:
-        ax.plot(dist, p[ii, jj], "C3-")
+        ax.plot(dist[sel], p[ii, jj][sel], "C3-")
         ax.set_ylabel("p/p*")
     else:
         h = ds["heights"].values
         w = h - h.max() + float(ds["penetration"])
-        top, slab = -w[ii, jj] * 1e6, -ds["displacement"].values[ii, jj] * 1e6
-        rng = max(np.ptp(top), 1e-12)
+        top, slab = -w[ii, jj][sel] * 1e6, -ds["displacement"].values[ii, jj][sel] * 1e6
+        rng = max(np.ptp(np.r_[top, slab]), 1e-12)
         hi, lo = top.max() + 0.1 * rng, slab.min() - 0.1 * rng
-        ax.fill_between(dist, top, hi, color="0.75", label="rigid indenter")
-        ax.fill_between(dist, lo, slab, color="C0", alpha=0.35, label="slab")
-        ax.plot(dist, slab, "C0-", lw=1)
+        ax.fill_between(dist[sel], top, hi, color="0.75", label="rigid indenter")
+        ax.fill_between(dist[sel], lo, slab, color="C0", alpha=0.35, label="slab")
+        ax.plot(dist[sel], slab, "C0-", lw=1)
         ax.set_ylim(lo, hi)
         ax.set_ylabel("height (μm)")
-        ax.legend(loc="best")
-    ax.set_xlabel(f"distance along v ({unit})")
-    ax.set_title("profile cut along the sliding direction")
+        ax.legend(loc="best", fontsize=8)
+    ax.set_xlabel(f"distance along {'v' if not seed else 'x'} ({unit})")
+    ax.set_title("profile cut (dashed on the maps)")
     if path is not None:
         fig.savefig(path, dpi=110)
     return fig

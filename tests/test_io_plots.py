@@ -295,3 +295,31 @@ def test_validate_writes_where_output_says(tmp_path, monkeypatch):
     assert (other / "validation.md").exists()
     after = (docs / "validation.md").read_bytes() if (docs / "validation.md").exists() else b""
     assert after == before
+
+
+def test_state_figure_has_title_block_diverging_pressure_and_cut():
+    """The state figure of an adhesive scene: a title block naming the scene, material, v,
+    p̄, μ and area; the pressure diverging around p = 0 with non-contact masked; the gap on
+    a log scale; the profile cut drawn (dashed) on each map."""
+    import matplotlib.pyplot as plt
+    from matplotlib import colors
+
+    import spectralbem as sb
+    from spectralbem.plotting import plot_contact
+    from spectralbem.scenes import load_scene
+
+    ds = sb.solve(load_scene(CASES / "jkr_sphere.toml", overrides={
+        "grid.Nx": 64, "grid.Ny": 64, "adhesion.a0": 1.6e-5, "control.mean_pressure": 0.0}))
+    fig = plot_contact(ds)
+    title = fig._suptitle.get_text()
+    for word in ("jkr_sphere", "elastic", "v = 0 m/s", "p̄ =", "μ = 0", "contact area",
+                 "partial"):
+        assert word in title, (word, title)
+    maps = fig.axes[:3]  # contact, pressure, gap (the colour bars come after the panels)
+    pressure = [im for ax in fig.axes for im in ax.get_images()
+                if isinstance(im.norm, colors.TwoSlopeNorm)]
+    assert len(pressure) == 1 and pressure[0].norm.vcenter == 0.0
+    assert np.ma.is_masked(pressure[0].get_array())  # non-contact masked
+    assert any(isinstance(im.norm, colors.LogNorm) for ax in fig.axes for im in ax.get_images())
+    assert all(any(ln.get_linestyle() == "--" for ln in ax.get_lines()) for ax in maps)
+    plt.close(fig)

@@ -45,7 +45,7 @@ figures: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python cases/figures_1d.py
 
 lint: $(STAMP)
-	$(BIN)/ruff check spectralbem tests bench cases
+	$(BIN)/ruff check spectralbem tests bench cases docs/examples
 
 clean:
 	rm -rf $(VENV) demo_out .pytest_cache

@@ -2,9 +2,11 @@
 
 :func:`plot_dataset` picks the plot from the dataset: a sweep (curves of the scalars against the
 first swept key, log axes where the values span decades, as in the seed's figures), a path
-(scalars against the prescribed load or penetration), a grid state (contact map with the front
-coloured by the local G/Δγ, pressure and gap fields, a profile cut along the sliding
-direction) or a 1D state (stress and displacement on the contact).
+(scalars against the prescribed load or penetration), a grid state (title block; contact map
+with the front coloured by the local G/Δγ, pressure and gap fields, a profile cut along the
+sliding direction; for physical scenes the pressure distribution, the surface's power
+spectrum and the distribution of G/Δγ along the front) or a 1D state (stress and
+displacement on the contact).
 """
 
 from __future__ import annotations
@@ -199,7 +201,10 @@ def plot_contact(ds, path=None):
     contact = ds["contact"].values.astype(bool)
     ext = (x[0], x[-1], y[0], y[-1])
     panels = 3 if seed or "gap" not in ds else 4
-    fig, axes = plt.subplots(1, panels, figsize=(4.4 * panels, 4.3), constrained_layout=True)
+    extra = not seed and "heights" in ds
+    fig = plt.figure(figsize=(4.4 * panels, 8.3 if extra else 4.3), constrained_layout=True)
+    gs = fig.add_gridspec(2 if extra else 1, panels)
+    axes = [fig.add_subplot(gs[0, i]) for i in range(panels)]
     fig.suptitle(_title_block(ds, seed), fontsize=9)
     dist, ii, jj, vhat = _cut(ds, p, x, y)
     ax = axes[0]
@@ -277,9 +282,58 @@ def plot_contact(ds, path=None):
         ax.legend(loc="best", fontsize=8)
     ax.set_xlabel(f"distance along {'v' if not seed else 'x'} ({unit})")
     ax.set_title("profile cut (dashed on the maps)")
+    if extra:
+        _distributions(fig, gs, ds, p[contact], ds["x"].values, ds["y"].values)
     if path is not None:
         fig.savefig(path, dpi=110)
     return fig
+
+
+def _distributions(fig, gs, ds, p_in, x, y):
+    """Second row of a physical state figure: the pressure distribution P(p) in contact,
+    the surface's radially averaged power spectrum C(q) and, when adhesive, the distribution
+    of G/Δγ along the balanced front."""
+    ax = fig.add_subplot(gs[1, 0])
+    if p_in.size:
+        ax.hist(p_in * 1e-3, bins=60, density=True, color="C3", alpha=0.8)
+    ax.axvline(0.0, color="0.4", lw=0.8)
+    ax.set_xlabel("pressure in contact (kPa)")
+    ax.set_ylabel("P(p) (1/kPa)")
+    ax.set_title("pressure distribution")
+    ax = fig.add_subplot(gs[1, 1])
+    h = ds["heights"].values
+    hx, hy = x[1] - x[0], (y[1] - y[0]) if len(y) > 1 else 1.0
+    area = hx * hy * h.size
+    C = (hx * hy) ** 2 / area * np.abs(np.fft.fft2(h - h.mean())) ** 2  # m⁴
+    qx = 2 * np.pi * np.fft.fftfreq(h.shape[0], hx)
+    qy = 2 * np.pi * np.fft.fftfreq(h.shape[1], hy)
+    q = np.hypot(*np.meshgrid(qx, qy, indexing="ij"))
+    ok = q > 0
+    if ok.any() and len(y) > 2:
+        edges = np.geomspace(q[ok].min(), q[ok].max() * 1.0001, 40)
+        k = np.digitize(q[ok], edges)
+        qc, Cc = [], []
+        for i in range(1, edges.size):
+            sel = k == i
+            if sel.any():
+                qc.append(np.sqrt(edges[i - 1] * edges[i]))
+                Cc.append(C[ok][sel].mean())
+        Cc = np.asarray(Cc)
+        pos = Cc > 1e-30 * max(Cc.max(), 1e-300)
+        ax.loglog(np.asarray(qc)[pos], Cc[pos], "o-", ms=3)
+    ax.set_xlabel("wavenumber |q| (1/m)")
+    ax.set_ylabel("C(q) (m⁴)")
+    ax.set_title("surface power spectrum (radial mean)")
+    if "G_front" in ds:
+        ax = fig.add_subplot(gs[1, 2])
+        G = ds["G_front"].values
+        G = G[np.isfinite(G)]
+        if G.size:
+            ax.hist(G, bins=40, color="C4", alpha=0.8)
+        ax.axvline(1.0, color="0.4", lw=0.8)
+        ax.set_xlabel("G/Δγ on the balanced front")
+        ax.set_ylabel("front cells")
+        ax.set_title("release rate along the front")
 
 
 def plot_profile_1d(ds, path=None):

@@ -322,4 +322,7 @@ def test_state_figure_has_title_block_diverging_pressure_and_cut():
     assert np.ma.is_masked(pressure[0].get_array())  # non-contact masked
     assert any(isinstance(im.norm, colors.LogNorm) for ax in fig.axes for im in ax.get_images())
     assert all(any(ln.get_linestyle() == "--" for ln in ax.get_lines()) for ax in maps)
+    titles = {ax.get_title() for ax in fig.axes}
+    assert {"pressure distribution", "surface power spectrum (radial mean)",
+            "release rate along the front"} <= titles
     plt.close(fig)

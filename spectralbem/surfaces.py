@@ -194,6 +194,20 @@ def check_input_file(path, what: str, limit: int = MIN_FILE_LIMIT) -> Path:
     return path
 
 
+def _length_unit(text, where: str, path) -> float | None:
+    """Metres per unit of a netCDF ``units`` attribute (None when absent or dimensionless);
+    a unit that is no length is an error naming the attribute."""
+    if text is None or str(text).strip() in ("", "1"):
+        return None
+    from .schema import quantity
+
+    m = quantity(f"1 {text}", "m")
+    if isinstance(m, str):
+        raise SurfaceError(f"height map {_quote(path)}: {where} = {str(text)!r} is not a "
+                           f"length unit ({m})")
+    return m
+
+
 def read_heights(path, *, variable: str = "heights", scale: float = 1.0,
                  max_bytes: int = MIN_FILE_LIMIT):
     """Read a height map; returns ``(h, size)`` with h (Nx, Ny) in m (file values × ``scale``)
@@ -203,7 +217,9 @@ def read_heights(path, *, variable: str = "heights", scale: float = 1.0,
 
     Formats: ``.npy``; plain text / CSV matrices (``.txt .csv .dat .asc``, rows = x index,
     ``#`` comments); netCDF (``.nc``: the variable ``variable`` on dimensions (x, y), with
-    uniformly spaced coordinates giving the size); anything else through SurfaceTopography's
+    uniformly spaced coordinates giving the size; a ``units`` attribute on the variable or the
+    coordinates, read by pint, converts them to m, and ``scale`` must then stay 1 for the
+    heights); anything else through SurfaceTopography's
     ``read_topography`` when that optional package is installed.
     """
     path = Path(path)
@@ -235,6 +251,15 @@ def read_heights(path, *, variable: str = "heights", scale: float = 1.0,
                                        f"{variable!r} (variables: {', '.join(ds.data_vars)})")
                 da = ds[variable].load()
             h = da.values
+            unit = _length_unit(da.attrs.get("units", da.attrs.get("unit")),
+                                f"{variable}.units", path)
+            if unit is not None:  # heights in a stated unit: converted, scale must be 1
+                if scale != 1.0:
+                    raise SurfaceError(
+                        f"height map {_quote(path)} states its unit "
+                        f"({da.attrs.get('units', da.attrs.get('unit'))!r}); surface.scale = "
+                        f"{scale!r} would scale it twice: leave scale at 1")
+                h = np.asarray(h, float) * unit
             if h.ndim == 2 and all(d in da.coords for d in da.dims):
                 size = []
                 for d in da.dims:
@@ -243,7 +268,9 @@ def read_heights(path, *, variable: str = "heights", scale: float = 1.0,
                     if c.size < 2 or np.ptp(step) > 1e-6 * abs(step.mean()):
                         size = None
                         break
-                    size.append(float(step.mean() * c.size * scale))
+                    cu = _length_unit(da[d].attrs.get("units", da[d].attrs.get("unit")),
+                                      f"{d}.units", path)
+                    size.append(float(step.mean() * c.size * (scale if cu is None else cu)))
                 size = tuple(size) if size else None
         else:
             try:

@@ -159,3 +159,39 @@ def test_scene_cutoff_is_required_and_held_by_the_grid(value, words):
     msg = str(err.value)
     for w in words:
         assert w in msg, (w, msg)
+
+
+def test_netcdf_height_map_in_micrometres_is_read_in_metres(tmp_path):
+    """A netCDF height map whose heights and coordinates state their unit (µm, as
+    instruments and SurfaceTopography write them) is converted to m by pint, and the grid's
+    physical size is checked against the converted coordinates; a scale on top of a stated
+    unit, or a unit that is no length, is refused naming it."""
+    import xarray as xr
+
+    from spectralbem.surfaces import read_heights
+
+    rng = np.random.default_rng(3)
+    h_um = rng.normal(size=(16, 16))
+    xs = (np.arange(16) + 0.5) * 1000.0 / 16  # µm
+    ds = xr.Dataset({"heights": (("x", "y"), h_um, {"units": "um"})},
+                    coords={"x": ("x", xs, {"units": "µm"}), "y": ("y", xs, {"units": "um"})})
+    path = tmp_path / "topo.nc"
+    ds.to_netcdf(path)
+    h, size = read_heights(path)
+    assert np.allclose(h, h_um * 1e-6) and np.allclose(size, (1e-3, 1e-3))
+    scene = load_scene({"grid": {"Lx": "1 mm", "Ly": "1 mm", "Nx": 16, "Ny": 16},
+                        "surface": {"kind": "file", "path": str(path)},
+                        "material": {"kind": "elastic", "E": "1 MPa", "nu": 0.5},
+                        "control": {"mean_pressure": "10 kPa"}})
+    assert np.allclose(scene.heights, h_um * 1e-6)
+    with pytest.raises(SurfaceError, match="would scale it twice"):
+        read_heights(path, scale=1e-6)
+    ds["heights"].attrs["units"] = "Pa"
+    ds.to_netcdf(tmp_path / "bad.nc")
+    with pytest.raises(SurfaceError, match="heights.units = 'Pa' is not a length unit"):
+        read_heights(tmp_path / "bad.nc")
+    with pytest.raises(SceneError, match="grid.Lx"):  # 2 mm against the file's 1 mm
+        load_scene({"grid": {"Lx": "2 mm", "Ly": "1 mm", "Nx": 16, "Ny": 16},
+                    "surface": {"kind": "file", "path": str(path)},
+                    "material": {"kind": "elastic", "E": "1 MPa", "nu": 0.5},
+                    "control": {"mean_pressure": "10 kPa"}})

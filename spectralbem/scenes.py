@@ -226,13 +226,39 @@ def load_scene(source, *, overrides: dict | None = None, base_dir=None) -> Scene
     else:
         raw = source
         base = Path(base_dir or ".").resolve()
-    raw = apply_overrides(raw, overrides)
+    raw = _grid_from_file(apply_overrides(raw, overrides), base)
     spec, problems = validate(raw)
     if problems:
         raise SceneError(problems)
     if "sinusoid" in spec:
         return _build_seed(spec)
     return _build_physical(spec, base)
+
+
+def _grid_from_file(raw: dict, base: Path) -> dict:
+    """A height-map scene may leave out the grid: Nx, Ny default to the map's shape and Lx,
+    Ly to the size the file states (netCDF coordinates); keys given are kept (and checked
+    against the file later).  A file that cannot be read is left to the normal checks."""
+    sf, g = raw.get("surface"), raw.get("grid", {})
+    if not (isinstance(sf, dict) and sf.get("kind") == "file" and isinstance(g, dict)
+            and isinstance(sf.get("path"), str)) or all(
+            g.get(k) is not None for k in ("Lx", "Ly", "Nx", "Ny")):
+        return raw
+    try:
+        scale = sf.get("scale", 1.0)
+        h, size = read_heights(base / sf["path"], variable=sf.get("variable", "heights"),
+                               scale=scale if isinstance(scale, (int, float)) else 1.0,
+                               max_bytes=file_limit(65536**2))
+    except (SurfaceError, TypeError, ValueError, OSError):
+        return raw
+    out = dict(raw)
+    out["grid"] = g = dict(g)
+    g.setdefault("Nx", int(h.shape[0]))
+    g.setdefault("Ny", int(h.shape[1]))
+    if size is not None:
+        g.setdefault("Lx", size[0])
+        g.setdefault("Ly", size[1])
+    return out
 
 
 #: peak memory of a grid solve per cell (bytes): the peak resident size above the imported

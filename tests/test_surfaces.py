@@ -195,3 +195,24 @@ def test_netcdf_height_map_in_micrometres_is_read_in_metres(tmp_path):
                     "surface": {"kind": "file", "path": str(path)},
                     "material": {"kind": "elastic", "E": "1 MPa", "nu": 0.5},
                     "control": {"mean_pressure": "10 kPa"}})
+
+
+def test_a_height_map_scene_takes_its_grid_from_the_file(tmp_path):
+    """Without a [grid] the scene takes Nx, Ny from the map's shape and Lx, Ly from the size
+    the netCDF file states; a .npy map states no size, so Lx, Ly stay required (named)."""
+    import xarray as xr
+
+    h = np.random.default_rng(4).normal(size=(24, 16))
+    x = (np.arange(24) + 0.5) * 500.0 / 24
+    y = (np.arange(16) + 0.5) * 250.0 / 16
+    xr.Dataset({"heights": (("x", "y"), h, {"units": "um"})},
+               coords={"x": ("x", x, {"units": "um"}), "y": ("y", y, {"units": "um"})}
+               ).to_netcdf(tmp_path / "t.nc")
+    common = {"material": {"kind": "elastic", "E": "1 MPa", "nu": 0.5},
+              "control": {"mean_pressure": "10 kPa"}}
+    sc = load_scene({"surface": {"kind": "file", "path": str(tmp_path / "t.nc")}, **common})
+    assert sc.cell.shape == (24, 16)
+    assert (sc.cell.Lx, sc.cell.Ly) == pytest.approx((5e-4, 2.5e-4), rel=1e-9)
+    np.save(tmp_path / "t.npy", h)
+    with pytest.raises(SceneError, match="grid.Lx"):
+        load_scene({"surface": {"kind": "file", "path": str(tmp_path / "t.npy")}, **common})

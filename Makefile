@@ -5,7 +5,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 JOBS   ?= 2
 
-.PHONY: all venv demo test validate bench figures lint clean
+.PHONY: all venv demo test validate bench figures docs lint clean
 
 all: test
 
@@ -44,8 +44,11 @@ bench: $(STAMP)
 figures: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python cases/figures_1d.py
 
+docs: $(STAMP)
+	$(BIN)/python docs/generate_reference.py
+
 lint: $(STAMP)
-	$(BIN)/ruff check spectralbem tests bench cases docs/examples
+	$(BIN)/ruff check spectralbem tests bench cases docs
 
 clean:
 	rm -rf $(VENV) demo_out .pytest_cache

@@ -655,21 +655,3 @@ def reference_markdown() -> str:
                 lines.append(f"#### `{sec}.kind = {kind!r}`: no further keys")
                 lines.append("")
     return "\n".join(lines)
-
-
-def write_reference(path) -> None:
-    """Replace everything after the ``<!-- scene-reference -->`` marker of the user guide."""
-    from pathlib import Path
-
-    path = Path(path)
-    text = path.read_text()
-    marker = "<!-- scene-reference -->"
-    if marker not in text:
-        raise ValueError(f"{path} has no {marker} marker")
-    path.write_text(text.split(marker)[0] + marker + "\n" + reference_markdown() + "\n")
-
-
-if __name__ == "__main__":  # python -m spectralbem.schema: refresh docs/user_guide.md
-    from pathlib import Path
-
-    write_reference(Path(__file__).resolve().parent.parent / "docs" / "user_guide.md")

@@ -93,7 +93,7 @@ def test_no_lattice_trapping_and_first_order_convergence():
     mask; the former ±0.6-cell dead band left the branches 0.3-0.6 h apart), and the
     sharp-crack edge converges to Johnson's ã at first order in h (measured errors +0.39 %,
     +0.19 %, +0.10 %)."""
-    from spectralbem.scenes import _edges_y_invariant
+    from spectralbem.solving import _edges_y_invariant
 
     errs = []
     aJ = ref.johnson_a(0.15, GAMMA)

@@ -131,6 +131,7 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10, progress=Non
     cell, h = scene.cell, scene.heights
     pstar = 0.5
     out = {}
+    G_front = None
     if scene.adhesive:
         if mask0 is None and scene.kind == "sinusoid":  # start from Johnson's E0 contact
             from . import reference as ref
@@ -155,6 +156,8 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10, progress=Non
         out["p_front"] = r.mean_pressure
         a0e = r.a0
         u = op.apply(p)
+        if status == "partial" and r.tests is not None:  # the local G/Δγ on the front
+            G_front = front.front_outputs(op, r, scene.dgamma)["G_map"]
         if scene.kind == "sinusoid" and status == "partial":
             l1, l2 = _edges_y_invariant(mask, r.offset_out, cell)
             G = []
@@ -235,6 +238,8 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10, progress=Non
     data["pressure_tilde"] = (("x", "y"), p / pstar, {"long_name": "p/p*", "units": "1"})
     data["contact"] = (("x", "y"), mask.astype(np.int8), {"long_name": "contact mask",
                                                           "units": "1"})
+    if G_front is not None and status == "partial":
+        data["G_front"] = (("x", "y"), G_front, _attrs(FIELDS["G_front"]))
     ds = xr.Dataset(data, coords={"x": ("x", cell.x, {"units": "1", "long_name": "k x"}),
                                   "y": ("y", cell.y, {"units": "1", "long_name": "k y"})})
     ds.attrs.update(**scene.params, **info)

@@ -225,6 +225,12 @@ def test_datasets_follow_cf_conventions(tmp_path, capsys):
             assert ds.contact.attrs["flag_meanings"] == "no_contact contact"
         if "iterations" in ds:
             assert ds.iterations.dtype.kind == "i", case
+        if case == "seed_sinusoid_2d":  # the local G/Δγ on the seed grid's front, too
+            G = ds.G_front.values
+            assert np.isfinite(G).sum() == 2 * ds.sizes["y"]  # both edges of each row
+            # the closing band's value at the mask edge; G1 is interpolated to the balanced
+            # edge, within a0 of it (measured 4.56 against 4.48)
+            assert np.nanmax(G) == pytest.approx(ds.G1_over_dgamma.item(), rel=0.05)
     out = tmp_path / "j.nc"
     assert cli.main(["run", str(CASES / "jkr_sphere.toml"), "-o", str(out), "-q", "--set",
                      "grid.Nx=32", "--set", "grid.Ny=32", "--set", "adhesion.a0=3.2e-5"]) == 0

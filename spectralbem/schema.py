@@ -10,16 +10,18 @@ A scene file describes one study.  Two forms exist:
 
 Both may carry ``[scene]`` (name, description, model).  :func:`validate` walks a parsed TOML
 mapping and returns the problems as ``"key.path: message"`` lines (unknown keys, missing keys,
-wrong types, numbers given with units, values out of range, inconsistent combinations);
-:func:`reference_markdown` renders the schema for docs/user_guide.md.
+wrong types, values out of range, inconsistent combinations); quantities written with a unit
+are converted by :mod:`spectralbem.units`; docs/generate_reference.py renders the schema for
+docs/user_guide.md.
 """
 
 from __future__ import annotations
 
-import functools
 import math
 import re
 from dataclasses import dataclass
+
+from .units import quantity
 
 REQUIRED = object()
 
@@ -312,39 +314,6 @@ PHYSICAL = ("grid", "surface", "material", "layer", "adhesion", "motion", "contr
 _UNIT_STRING = re.compile(r"^\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?\s*[A-Za-zμµ°%/²]+")
 
 
-#: schema units that accept a quantity with a unit ("2 MPa"): their pint spelling
-PINT_UNITS = {"m": "m", "Pa": "Pa", "s": "s", "m/s": "m/s", "J/m²": "J/m**2",
-              "deg": "degree"}
-
-
-@functools.lru_cache(maxsize=1)
-def _registry():
-    import pint
-
-    return pint.UnitRegistry()
-
-
-def quantity(text: str, units: str):
-    """The number of ``units`` (the schema's SI unit) in the quantity ``text`` ("2 MPa",
-    "10 um", "4 mm/s"), parsed by pint; or a message (str) saying why it cannot be."""
-    if units not in PINT_UNITS:
-        return (f"{short(text)} carries a unit; this key takes a plain number"
-                + (f" in {units}" if units and units != "1" else ""))
-    try:
-        import pint
-    except ImportError:  # pragma: no cover - pint is a dependency
-        return f"{short(text)} carries a unit; give a plain number in {units} (pint is missing)"
-    try:
-        q = _registry().Quantity(text)
-    except Exception as exc:  # noqa: BLE001 - pint's parser raises many kinds
-        return f"{short(text)}: not a quantity pint can read ({type(exc).__name__})"
-    try:
-        return float(q.to(PINT_UNITS[units]).magnitude)
-    except pint.DimensionalityError:
-        return (f"{short(text)} is not a quantity in {units} (its dimension is "
-                f"{q.dimensionality}); give it in {units} or a compatible unit")
-
-
 def _check_value(path: str, key: Key, v, problems: list):
     """Type and range of one value; returns the normalised value (or None on a problem).
     Messages quote the value shortened (:func:`short`)."""
@@ -619,39 +588,3 @@ def _check_physical(out, problems):
     if sf.get("kind") == "self_affine" and (sf.get("rms_height") is None) == (
             sf.get("rms_slope") is None):
         problems.append("surface.rms_height / surface.rms_slope: give exactly one")
-
-
-def reference_markdown() -> str:
-    """The scene reference (docs/user_guide.md), generated from the schema."""
-    lines = ["A number is in the key's SI unit (the units column). Keys in "
-             + ", ".join(f"`{u}`" for u in PINT_UNITS)
-             + " also take a quantity with a unit, written as a string and read by pint: "
-             '`E0 = "2 MPa"`, `cutoff_wavelength = "62.5 um"`, `speed = "4 mm/s"` (on the '
-             'command line `--set material.E0="2 MPa"`); it is stored in SI, so the '
-             "dataset's `scene` attribute holds the SI number.", ""]
-
-    def table(title, spec):
-        lines.append(title)
-        lines.append("")
-        lines.append("| key | type | units | allowed | default | meaning |")
-        lines.append("|---|---|---|---|---|---|")
-        for key, k in spec.items():
-            d = "required" if k.default is REQUIRED else repr(k.default)
-            lines.append(f"| `{key}` | {k.type} | {k.units or '–'} | {k.range_text() or '–'} "
-                         f"| {d} | {k.doc} |")
-        lines.append("")
-
-    for sec, spec in SECTIONS.items():
-        table(f"### `[{sec}]`", spec)
-    for sec, kinds in KINDS.items():
-        default = KIND_DEFAULTS.get(sec)
-        lines.append(f"### `[{sec}]` — `kind` = {', '.join(repr(k) for k in kinds)}"
-                     + (f" (default {default!r})" if default else " (required)"))
-        lines.append("")
-        for kind, spec in kinds.items():
-            if spec:
-                table(f"#### `{sec}.kind = {kind!r}`", spec)
-            else:
-                lines.append(f"#### `{sec}.kind = {kind!r}`: no further keys")
-                lines.append("")
-    return "\n".join(lines)

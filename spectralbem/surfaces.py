@@ -199,7 +199,7 @@ def _length_unit(text, where: str, path) -> float | None:
     a unit that is no length is an error naming the attribute."""
     if text is None or str(text).strip() in ("", "1"):
         return None
-    from .schema import quantity
+    from .units import quantity
 
     m = quantity(f"1 {text}", "m")
     if isinstance(m, str):

@@ -62,12 +62,14 @@ def at_front(tests, offset_out, base: dict, a0: float) -> dict:
     return out
 
 
-def release_rates(op, tests, where, dgamma):
+def release_rates(op, tests, where, dgamma, ds=None):
     """(G map, G1, G2): the energy release rate G = Δγ − δL_P/δA of the closing bands on the
     outer front cells ``where`` (nan elsewhere; Eqs. 3, 6, 10) and its front-length averages
-    over the trailing and leading colours (one colour: the same average twice)."""
+    over the trailing and leading colours (one colour: the same average twice).  ``ds``: the
+    front-length weights if the caller has them (:func:`front_length_weights`)."""
     cell = op.cell
-    ds = front_length_weights(tests.bands.normal, cell.hx, cell.hy)
+    if ds is None:
+        ds = front_length_weights(tests.bands.normal, cell.hx, cell.hy)
     dg = np.broadcast_to(np.asarray(dgamma, float), cell.shape)
     G = np.where(where & np.isfinite(tests.dLP_rate), dg - tests.dLP_rate, np.nan)
     ok = np.isfinite(G)
@@ -87,7 +89,8 @@ def front_outputs(op, r, dgamma) -> dict:
     cell = op.cell
     t = r.tests
     b = t.bands
-    ds = front_length_weights(b.normal, cell.hx, cell.hy)
+    normal = b.normal  # computed on demand (a smoothing of the mask): once here
+    ds = front_length_weights(normal, cell.hx, cell.hy)
     ok = b.outer_front & (r.resolved if r.resolved is not None else True)
     s = np.clip(np.where(ok & np.isfinite(r.offset_out), r.offset_out, 0.0), -r.a0, r.a0)
     area = float(r.mask.sum() * cell.cell_area + np.sum(s * ds))
@@ -95,13 +98,13 @@ def front_outputs(op, r, dgamma) -> dict:
     length = float(np.sum(ds[ok & np.isfinite(t.dLP_rate)]))
     if r.crack_tips is not None:  # edges held by contact are no crack tips
         ok &= r.crack_tips
-    G, *G1G2 = release_rates(op, t, ok, dgamma)
+    G, *G1G2 = release_rates(op, t, ok, dgamma, ds)
     ok &= np.isfinite(G)
     if r.crack_tips is not None and length > 0 and not ok.any():
         # every edge held by contact (Γ → 0: an adhesiveless contact): no crack tip
         G1G2 = [0.0, 0.0]
     vhat = sliding_direction(op)
-    nv = b.normal[0] * vhat[0] + b.normal[1] * vhat[1]
+    nv = normal[0] * vhat[0] + normal[1] * vhat[1]
     release = G - dg if np.ndim(dgamma) == 0 else G
     force = -float(np.sum(np.where(ok, release * nv * ds, 0.0)))
     W = float(r.pressure.sum()) * cell.cell_area

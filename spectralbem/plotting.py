@@ -311,16 +311,12 @@ def _distributions(fig, gs, ds, p_in, x, y):
     ok = q > 0
     if ok.any() and len(y) > 2:
         edges = np.geomspace(q[ok].min(), q[ok].max() * 1.0001, 40)
-        k = np.digitize(q[ok], edges)
-        qc, Cc = [], []
-        for i in range(1, edges.size):
-            sel = k == i
-            if sel.any():
-                qc.append(np.sqrt(edges[i - 1] * edges[i]))
-                Cc.append(C[ok][sel].mean())
-        Cc = np.asarray(Cc)
-        pos = Cc > 1e-30 * max(Cc.max(), 1e-300)
-        ax.loglog(np.asarray(qc)[pos], Cc[pos], "o-", ms=3)
+        k = np.digitize(q[ok], edges) - 1  # bin of each mode
+        n = np.bincount(k, minlength=edges.size - 1)
+        Cc = np.bincount(k, weights=C[ok], minlength=edges.size - 1) / np.maximum(n, 1)
+        qc = np.sqrt(edges[:-1] * edges[1:])
+        pos = (n > 0) & (Cc > 1e-30 * max(Cc.max(), 1e-300))
+        ax.loglog(qc[pos], Cc[pos], "o-", ms=3)
     ax.set_xlabel("wavenumber |q| (1/m)")
     ax.set_ylabel("C(q) (m⁴)")
     ax.set_title("surface power spectrum (radial mean)")

@@ -251,14 +251,13 @@ def read_heights(path, *, variable: str = "heights", scale: float = 1.0,
                                        f"{variable!r} (variables: {', '.join(ds.data_vars)})")
                 da = ds[variable].load()
             h = da.values
-            unit = _length_unit(da.attrs.get("units", da.attrs.get("unit")),
-                                f"{variable}.units", path)
+            stated = da.attrs.get("units", da.attrs.get("unit"))
+            unit = _length_unit(stated, f"{variable}.units", path)
             if unit is not None:  # heights in a stated unit: converted, scale must be 1
                 if scale != 1.0:
                     raise SurfaceError(
-                        f"height map {_quote(path)} states its unit "
-                        f"({da.attrs.get('units', da.attrs.get('unit'))!r}); surface.scale = "
-                        f"{scale!r} would scale it twice: leave scale at 1")
+                        f"height map {_quote(path)} states its unit ({stated!r}); "
+                        f"surface.scale = {scale!r} would scale it twice: leave scale at 1")
                 h = np.asarray(h, float) * unit
             if h.ndim == 2 and all(d in da.coords for d in da.dims):
                 size = []

@@ -429,6 +429,14 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     return p.reshape(shape), u.reshape(shape).copy(), delta, it, converged, message, pairs
 
 
+def untouched(cell, penetration) -> tuple:
+    """The state of a penetration Δ ≤ 0 (max w = Δ ≤ 0: p = 0 satisfies g ≥ 0): (p, u, Δ,
+    mask, iterations, converged, message)."""
+    zero = np.zeros(cell.shape)
+    return (zero, zero.copy(), float(penetration), zero > 0, 0, True,
+            "no contact: the indenter does not reach the surface")
+
+
 #: outer iterations after which the active set moves only its worst offender per side
 DAMP_AFTER = 30
 
@@ -445,10 +453,8 @@ def active_set(op: SpectralOperator, heights, *, mean_pressure=None, penetration
     hmax = float(h.max())
     hrange = max(float(h.max() - h.min()), np.finfo(float).tiny)
     load = mean_pressure is not None
-    if not load and float(penetration) <= 0:  # max w = Δ ≤ 0: p = 0 satisfies g ≥ 0
-        zero = np.zeros(cell.shape)
-        return (zero, zero.copy(), float(penetration), zero > 0, 0, True,
-                "no contact: the indenter does not reach the surface", 0)
+    if not load and float(penetration) <= 0:
+        return untouched(cell, penetration) + (0,)
     if mask0 is None:
         # start from the elastic solution of the symmetric part of the kernel
         from .materials import Elastic
@@ -541,9 +547,18 @@ def active_set(op: SpectralOperator, heights, *, mean_pressure=None, penetration
 
 def solve_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetration=None,
                   tol: float = 1e-10, maxiter: int = 10000, p0=None,
-                  mask0=None) -> ContactResult:
+                  mask0=None, method: str = "auto") -> ContactResult:
     """Adhesiveless contact of the rigid profile ``heights`` under load or penetration control
-    (the solver validates the inputs before any work)."""
+    (the solver validates the inputs before any work).
+
+    ``method``: 'auto' (Polonsky–Keer for a symmetric operator, the semismooth Newton method
+    of :mod:`spectralbem.newton` otherwise, falling back to the active set where it does not
+    converge), or 'active-set' (exact masked solves: the reference the Newton method is
+    tested against, 3-100× slower)."""
+    from .newton import newton_contact
+
+    if method not in ("auto", "active-set"):
+        raise ContactError(f"method = {method!r}; allowed: 'auto', 'active-set'")
     h = np.asarray(heights, dtype=float)
     if op.symmetric:
         p, u, delta, its, conv, msg, pairs = polonsky_keer(
@@ -552,12 +567,27 @@ def solve_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         mask = p > 0
         method = "polonsky-keer"
         diag = {"fft_pairs": pairs}
-    else:
+    elif method == "active-set":
         p, u, delta, mask, its, conv, msg, outer = active_set(
             op, h, mean_pressure=mean_pressure, penetration=penetration, tol=tol,
             mask0=mask0, p0=p0)
-        method = "active-set"
         diag = {"outer_iterations": outer}
+    else:
+        p, u, delta, mask, its, conv, msg, outer, pairs = newton_contact(
+            op, h, mean_pressure=mean_pressure, penetration=penetration, tol=tol,
+            mask0=mask0, p0=p0)
+        method = "semismooth-newton"
+        diag = {"outer_iterations": outer, "fft_pairs": pairs}
+        if not conv:
+            # the exact-solve active set, from its own start: slower, but it converges on
+            # some glassy thin-layer cases where the Newton steps stall (β = 1e4, ζ = 1 on
+            # a rough 64² under a thin layer; docs/performance.md)
+            p, u, delta, mask, more, conv, msg2, outer2 = active_set(
+                op, h, mean_pressure=mean_pressure, penetration=penetration, tol=tol)
+            its += more
+            method = "active-set"
+            msg = f"{msg2} (after the semismooth Newton method: {msg})"
+            diag.update(fallback_outer_iterations=outer2)
     if not (np.all(np.isfinite(p)) and np.all(np.isfinite(u))):
         conv = False
         msg = "non-finite pressure or displacement: " + msg

@@ -189,6 +189,20 @@ class SpectralOperator:
         """True when C = Cᵀ (elastic material or v = 0): CG applies."""
         return not self.viscoelastic
 
+    def even_part(self) -> "SpectralOperator":
+        """The symmetric operator C^E with kernel Re Ĉ (Eq. 2, even part): the in-phase
+        stiffness at each wavevector's frequency q·v; ``self`` when already symmetric."""
+        if self.symmetric:
+            return self
+        ev = SpectralOperator.__new__(SpectralOperator)
+        ev.__dict__.update({k: v for k, v in self.__dict__.items()
+                            if k not in ("span", "inverse_multipliers")})
+        ev.viscoelastic = False
+        ev.kernel = np.ascontiguousarray(self.kernel.real)
+        ev._k = ev.kernel / (self.cell.Nx * self.cell.Ny)
+        ev._kc = ev._k
+        return ev
+
     @property
     def plan(self):
         if self._plan is None:
@@ -238,10 +252,13 @@ class SpectralOperator:
     def apply_inverse(self, u: np.ndarray, out: np.ndarray | None = None,
                       transpose: bool = False) -> np.ndarray:
         """The unmasked inverse F⁻¹[1/Ĉ] F u (the Fourier preconditioner), or its transpose."""
-        if not hasattr(self, "_kinv"):
-            self._kinv = self.inverse_kernel()
-            self._kinv_c = np.conj(self._kinv) if self.viscoelastic else self._kinv
-        return self._apply(u, self._kinv_c if transpose else self._kinv, out)
+        return self._apply(u, self.inverse_multipliers[int(transpose)], out)
+
+    @functools.cached_property
+    def inverse_multipliers(self) -> tuple:
+        """(1/Ĉ, its transpose's), scaled as :meth:`inverse_kernel` (built once)."""
+        k = self.inverse_kernel()
+        return k, (np.conj(k) if self.viscoelastic else k)
 
     # -- energies and friction --------------------------------------------------------------
     def elastic_energy(self, p: np.ndarray) -> float:

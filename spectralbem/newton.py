@@ -9,12 +9,15 @@ method: on the current contact set A solve (C p)_A = (w + Δ)_A with p = 0 off A
 cells of A where p < 0, add the cells off A where g < 0, repeat until the set stops moving.
 What makes it cheap:
 
-* **the start**: Polonsky–Keer on the even part C^E of the kernel (symmetric, Re Ĉ, the
-  in-phase stiffness at each wavevector's frequency q·v), to a loose tolerance: one FFT pair
-  per iteration, and a contact set within a few per cent of the final one;
+* **the start**: Polonsky–Keer on the symmetric kernel |Ĉ| (the compliance 1/|E(q·v)|, the
+  effective slab of contact-area theories of sliding rubber), to a loose tolerance: one FFT
+  pair per iteration, and a contact set within ~10 % of the final one (measured on rough
+  surfaces: |Ĉ| needs 20-25 % fewer transforms in all than the even part Re Ĉ, whose set
+  is too small, and than the relaxed E0, whose set is too large; docs/performance.md);
 * **inexact solves**: while the set is still moving, each masked solve stops at the relative
-  residual ``LOOSE`` (1e-3): enough to tell which cells leave or join; only once the set has
-  stopped moving is it solved to the requested tolerance, and the set checked again;
+  residual ``LOOSE`` (1e-3), or a tenth of its starting residual if that is lower: enough
+  to tell which cells leave or join; once the set has stopped moving the tolerance tightens
+  (×1e-3, then the requested one) and the set is checked again;
 * **one Krylov solve per Newton step, at two FFT pairs per iteration**: right-preconditioned
   GMRES on the packed values of the set, the preconditioner P F⁻¹[1/Ĉ] F P fused with the
   operator (the preconditioned field is masked in place between the two pairs, no full-grid
@@ -23,35 +26,31 @@ What makes it cheap:
   not two; the displacement that checks the set (u = C p, one pair) also gives the true
   residual of the solve.
 
-Returns the same tuple as :func:`spectralbem.contact.active_set`; docs/performance.md
-compares the candidates (this method, the active set with exact solves of
-:func:`~spectralbem.contact.active_set`, splitting the odd part off).
+docs/performance.md compares the candidates: this method, the active set with exact solves
+(:func:`spectralbem.contact.active_set`), and splitting the odd part off (PK on C^E with
+C^O p lagged), which diverges once the loss tangent exceeds 1.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from .masked import PackedSystem, fused_gmres
 from .spectral import SpectralOperator
 
 #: relative residual of the masked solves while the contact set still moves
 LOOSE = 1e-3
 
-#: every solve reduces its starting residual at least by this factor (so that a change of
-#: the set is always followed by a step of p, even when the residual is already below the
-#: tolerance: without it, sets were seen to flip back and forth unsolved)
+#: every solve on a changed set reduces its starting residual at least by this factor (so
+#: that a change of the set is always followed by a step of p, even when the residual is
+#: already below the tolerance: without it, sets were seen to flip back and forth unsolved)
 FORCING = 0.1
 
-#: complementarity tolerance of the elastic (even-part) start
+#: complementarity tolerance of the symmetric (|Ĉ|) start
 START_TOL = 1e-3
 
-#: iterations of the even-part start before it gives way to the relaxed elastic start
+#: iterations of the |Ĉ| start before it gives way to the relaxed elastic start
 START_MAXITER = 300
-
-#: GMRES restart length, at most; the Krylov basis (allocated as it grows) is capped at
-#: BASIS_ARRAYS arrays of the grid's size, within the memory budget of 25 N² arrays
-RESTART = 300
-BASIS_ARRAYS = 10
 
 #: outer iterations after which the set moves only its worst offender per side (as the
 #: active set does): exact Newton steps were measured to wander, ±10 cells of a 400-cell set
@@ -63,116 +62,13 @@ DAMP_AFTER = 30
 #: than STALL times as many cells as at the previous step)
 LADDER = 1e-3
 STALL = 0.5
+#: ... when the set moves no more than this many cells (a front-sized wander; 2048² rough
+#: sets still shed thousands of cells per step at the loose tolerance, and tightening there
+#: made each step 3× dearer)
+STALL_CELLS = 32
 
 
-class PackedSystem:
-    """The right-preconditioned masked operator on the packed values of a contact set A.
-
-    ``apply(v)`` returns Π (C P M̃ v)|_A with M̃ = Π (P F⁻¹[1/Ĉ] F P) Π, Π the mean removal
-    on A under load control and the identity otherwise; ``precondition(v)`` returns M̃ v.
-    Two FFT pairs per ``apply``; the transforms read and write the plan's own buffers, whose
-    input stays zero off A for the whole solve (only A's cells are ever written).
-    """
-
-    def __init__(self, op: SpectralOperator, mask: np.ndarray, project: bool):
-        self.op = op
-        self.idx = np.flatnonzero(mask)
-        self.n = self.idx.size
-        self.grid_cells = mask.size
-        self.project = project
-        pl = op.plan
-        self.pl = pl
-        self.rin = pl.input_buffer.reshape(-1)
-        self.rin[:] = 0.0
-        self.k = op._k
-        self.kinv = op.inverse_multipliers[0]
-        self.pairs = 0
-
-    def _pass(self, v: np.ndarray, k: np.ndarray) -> np.ndarray:
-        """(F⁻¹[k] F P v)|_A, projected: one FFT pair."""
-        self.pairs += 1
-        pl = self.pl
-        self.rin.put(self.idx, v)
-        np.multiply(pl.forward_buffer(), k, out=pl.spectrum_buffer)
-        out = pl.inverse_buffer().reshape(-1).take(self.idx)
-        if self.project:
-            out -= out.mean()
-        return out
-
-    def precondition(self, v: np.ndarray) -> np.ndarray:
-        return self._pass(v, self.kinv)
-
-    def operator(self, v: np.ndarray) -> np.ndarray:
-        """Π (C P v)|_A (no preconditioner): one pair."""
-        return self._pass(v, self.k)
-
-    def apply(self, v: np.ndarray) -> np.ndarray:
-        return self._pass(self._pass(v, self.kinv), self.k)
-
-
-def gmres(system: PackedSystem, r0: np.ndarray, rtol: float, maxiter: int):
-    """Right-preconditioned restarted GMRES for the correction x of ``A M x' = r0``, x = M x'.
-
-    Solves to ‖r0 − A x‖ ≤ rtol·‖r0‖ (the Arnoldi estimate, exact in exact arithmetic) within
-    ``maxiter`` operator applications.  Classical Gram–Schmidt with one re-orthogonalisation
-    (two matrix-vector products against the basis, BLAS 2).  Returns (x, applications,
-    estimated relative residual).
-    """
-    n = r0.size
-    beta0 = float(np.linalg.norm(r0))
-    x = np.zeros(n)
-    if beta0 == 0.0 or n == 0:
-        return x, 0, 0.0
-    m = int(max(10, min(RESTART, BASIS_ARRAYS * system.grid_cells // n - 1)))
-    V = np.empty((min(m, 32) + 1, n))  # grown as the iteration needs it
-    H = np.zeros((m + 1, m))
-    cs, sn = np.zeros(m), np.zeros(m)
-    r = r0.copy()
-    used = 0
-    rel = 1.0
-    while used < maxiter:
-        beta = float(np.linalg.norm(r))
-        rel = beta / beta0
-        if rel <= rtol:
-            break
-        V[0] = r / beta
-        e = np.zeros(m + 1)
-        e[0] = beta
-        k = 0
-        while k < m and used < maxiter:
-            w = system.apply(V[k])
-            used += 1
-            h = V[: k + 1] @ w
-            w -= V[: k + 1].T @ h
-            h2 = V[: k + 1] @ w  # re-orthogonalise once (CGS2)
-            w -= V[: k + 1].T @ h2
-            h += h2
-            hn = float(np.linalg.norm(w))
-            H[: k + 1, k] = h
-            H[k + 1, k] = hn
-            for j in range(k):  # apply the previous Givens rotations
-                a, b = H[j, k], H[j + 1, k]
-                H[j, k], H[j + 1, k] = cs[j] * a + sn[j] * b, -sn[j] * a + cs[j] * b
-            d = np.hypot(H[k, k], H[k + 1, k])
-            cs[k], sn[k] = (1.0, 0.0) if d == 0 else (H[k, k] / d, H[k + 1, k] / d)
-            H[k, k], H[k + 1, k] = d, 0.0
-            e[k], e[k + 1] = cs[k] * e[k], -sn[k] * e[k]
-            k += 1
-            rel = abs(e[k]) / beta0
-            if hn == 0.0 or rel <= rtol:
-                break
-            if k == V.shape[0]:
-                V = np.concatenate([V, np.empty((min(V.shape[0], m + 1 - k), n))])
-            V[k] = w / hn
-        y = np.linalg.solve(np.triu(H[:k, :k]), e[:k]) if k else np.zeros(0)
-        x += system.precondition(V[:k].T @ y)
-        if rel <= rtol or used >= maxiter:
-            break
-        r = r0 - system.operator(x)  # restart from the true residual (one pair)
-    return x, used, rel
-
-
-def _masked_solve(op, mask, p, w, load, target, rtol, maxiter):
+def _masked_solve(op, mask, p, w, load, target, rtol, maxiter, forcing=FORCING):
     """Solve (C p)_A = (w + Δ)_A on the set A (p = 0 off A) from the warm start ``p``.
 
     Under load control Σ p = ``target`` (the start is shifted on A to satisfy it; the
@@ -188,7 +84,7 @@ def _masked_solve(op, mask, p, w, load, target, rtol, maxiter):
     r0 = b - sys_.operator(x0)
     bnorm = float(np.linalg.norm(b))
     rr = float(np.linalg.norm(r0)) / bnorm if bnorm > 0 else 0.0
-    x, used, rel = gmres(sys_, r0, min(rtol / max(rr, 1e-300), FORCING), maxiter)
+    x, used, rel = fused_gmres(sys_, r0, min(rtol / max(rr, 1e-300), forcing), maxiter)
     out = np.zeros(p.size)
     out.put(sys_.idx, x0 + x)
     return out.reshape(p.shape), used, sys_.pairs, rel * rr
@@ -215,20 +111,20 @@ def _worst(cells: np.ndarray, value: np.ndarray) -> np.ndarray:
 
 
 def _tighten(eta: float, tol: float) -> float:
-    return tol if eta * LADDER < 10 * tol else eta * LADDER
+    return tol if eta * LADDER < 100 * tol else eta * LADDER
 
 
 def _start(op, h, mean_pressure, penetration, tol):
-    """The start: PK on the even part of the kernel, or, where that kernel stalls CG (it
-    jumps across q_x = 0 at high ζ: the modes with q·v = 0 are relaxed, the others glassy;
-    measured on a thin layer under pressure, 2000 iterations without converging), PK on the
+    """The start: PK on the kernel |Ĉ|, or, where that kernel stalls CG (it jumps across
+    q_x = 0 at high ζ: the modes with q·v = 0 are relaxed, the others glassy; measured with
+    Re Ĉ on a thin layer under pressure, 2000 iterations without converging), PK on the
     relaxed elastic kernel (E0).  Returns (p, FFT pairs)."""
     from .contact import polonsky_keer
     from .materials import Elastic
 
     kw = dict(mean_pressure=mean_pressure, penetration=penetration, tol=tol)
-    p, _u, _d, _it, ok, _m, pairs = polonsky_keer(op.even_part(), h, maxiter=START_MAXITER,
-                                                  **kw)
+    p, _u, _d, _it, ok, _m, pairs = polonsky_keer(op.magnitude_part(), h,
+                                                  maxiter=START_MAXITER, **kw)
     if not ok:
         relaxed = SpectralOperator(op.cell, Elastic(op.material.E0, op.material.nu), op.layer,
                                    (0.0, 0.0), op.threads)
@@ -278,6 +174,7 @@ def newton_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetra
     converged, message = False, ""
     outer = 0
     u = None
+    moved = True
     for outer in range(1, max_outer + 1):
         if np.all(mask):
             full = _full_contact(op, h, mean_pressure, penetration)
@@ -290,7 +187,8 @@ def newton_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetra
                 mask = p > 0
                 continue
         guard = int(20 * np.sqrt(np.count_nonzero(mask)) + 500)
-        p, used, pp, rel = _masked_solve(op, mask, p, w, load, target, eta, guard)
+        p, used, pp, rel = _masked_solve(op, mask, p, w, load, target, eta, guard,
+                                         FORCING if moved else 1.0)
         iterations += used
         pairs += pp + 1
         u, g, shift, true_rel = _gap(op, p, w, mask, load)
@@ -308,9 +206,10 @@ def newton_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetra
                 converged, message = True, "converged"
                 break
             eta = _tighten(eta, tol)  # the set has stopped moving: tighten, check again
+            moved = False
             continue
         changes = int(np.count_nonzero(remove) + np.count_nonzero(add))
-        if changes > STALL * last_changes and eta > tol:
+        if changes > STALL * last_changes and changes <= STALL_CELLS and eta > tol:
             # the set stopped converging: the loose solves are too coarse to tell the cells
             # at its edge apart (measured: ±10 cells flipping for 100 outer steps at β = 100)
             eta = _tighten(eta, tol)
@@ -330,6 +229,7 @@ def newton_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetra
             remove.flat[np.argmax(p)] = False  # an inexact step never empties the set
         mask = (mask & ~remove) | add
         p = np.where(mask, p, 0.0)
+        moved = True
     else:
         message = f"semismooth Newton not converged in {max_outer} outer iterations"
     if u is None:

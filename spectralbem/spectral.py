@@ -191,17 +191,26 @@ class SpectralOperator:
 
     def even_part(self) -> "SpectralOperator":
         """The symmetric operator C^E with kernel Re Ĉ (Eq. 2, even part): the in-phase
-        stiffness at each wavevector's frequency q·v; ``self`` when already symmetric."""
+        compliance at each wavevector's frequency q·v; ``self`` when already symmetric."""
+        return self._symmetric_with(self.kernel.real)
+
+    def magnitude_part(self) -> "SpectralOperator":
+        """The symmetric operator with kernel |Ĉ| (even in q, as |Ĉ(−q)| = |conj Ĉ(q)|): the
+        compliance 1/|E(q·v)| with which contact-area theories of sliding rubber (Persson's)
+        replace the viscoelastic slab; ``self`` when already symmetric."""
+        return self._symmetric_with(np.abs(self.kernel))
+
+    def _symmetric_with(self, kernel) -> "SpectralOperator":
         if self.symmetric:
             return self
-        ev = SpectralOperator.__new__(SpectralOperator)
-        ev.__dict__.update({k: v for k, v in self.__dict__.items()
-                            if k not in ("span", "inverse_multipliers")})
-        ev.viscoelastic = False
-        ev.kernel = np.ascontiguousarray(self.kernel.real)
-        ev._k = ev.kernel / (self.cell.Nx * self.cell.Ny)
-        ev._kc = ev._k
-        return ev
+        sym = SpectralOperator.__new__(SpectralOperator)
+        sym.__dict__.update({k: v for k, v in self.__dict__.items()
+                             if k not in ("span", "inverse_multipliers")})
+        sym.viscoelastic = False
+        sym.kernel = np.ascontiguousarray(kernel)
+        sym._k = sym.kernel / (self.cell.Nx * self.cell.Ny)
+        sym._kc = sym._k
+        return sym
 
     @property
     def plan(self):

@@ -34,6 +34,7 @@ bench: $(STAMP)
 	$(BIN)/python bench/run.py
 	$(BIN)/python bench/pk_restart.py
 	$(BIN)/python bench/krylov.py
+	$(BIN)/python bench/viscoelastic.py
 	$(BIN)/python bench/scaling.py
 	$(BIN)/python bench/sphere.py 512 default 6
 	$(BIN)/python bench/accuracy.py

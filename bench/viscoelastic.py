@@ -19,7 +19,17 @@ Also the peak memory of the default solve (numpy allocations, tracemalloc) in N�
 arrays.  Writes the table between <!-- bench:visco_rough --> markers in docs/performance.md
 and the rows to bench/viscoelastic.json.
 
+``--robustness``: the default solver (``solve_contact``, with its fallback) against the
+active set over β ∈ {1, 10, 100, 1e4} × ζ ∈ {1e-3, 0.1, 1, 10, 1e3} × load/penetration
+control × half-space / glued layer / layer under pressure (thickness 0.05 L) on the 128²
+surface (section ``visco_robust``, bench/viscoelastic_robustness.json; ~20 min).
+``--starts``: FFT pairs of the whole Newton solve from three starts (PK on |Ĉ|, on Re Ĉ, on
+the relaxed E0) over the 60 cases of tests/test_newton.py's 64² surface (β 10-1e4, ζ
+1e-3-1e3, half-space and glued layer, both controls) and the table's surface at 1024²
+(section ``visco_starts``, bench/viscoelastic_starts.json).
+
 Usage: python bench/viscoelastic.py [--sizes 256 512 1024 2048] [--runs 3]
+       python bench/viscoelastic.py --robustness | --starts
 """
 
 from __future__ import annotations
@@ -30,6 +40,7 @@ for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_v, "1")
 
 import argparse  # noqa: E402
+import itertools  # noqa: E402
 import json  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
@@ -39,7 +50,8 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 
 from spectralbem import __version__, newton  # noqa: E402
-from spectralbem.contact import active_set, polonsky_keer  # noqa: E402
+from spectralbem.contact import active_set, polonsky_keer, solve_contact  # noqa: E402
+from spectralbem.layers import GluedLayer, HalfSpace, PressureLayer  # noqa: E402
 from spectralbem.materials import Elastic, StandardLinearSolid  # noqa: E402
 from spectralbem.spectral import SpectralOperator  # noqa: E402
 
@@ -158,13 +170,132 @@ def markdown(rows) -> str:
     return head + "\n" + "\n".join(lines)
 
 
+LAYERS = {"half": lambda: HalfSpace(), "glued": lambda: GluedLayer(0.05),
+          "pressure": lambda: PressureLayer(0.05)}
+
+
+def robustness(n=128):
+    cell, h = surface(n)
+    rows = []
+    for beta, zeta, kind, lay in itertools.product((1.0, 10.0, 100.0, 1e4),
+                                                    (1e-3, 0.1, 1.0, 10.0, 1e3),
+                                                    ("load", "penetration"), LAYERS):
+        mat = (Elastic(1.0, 0.5) if beta == 1.0 else StandardLinearSolid(1.0, beta, 1.0, 0.5))
+        v = zeta * (cell.Lx / 4) / (2 * np.pi)
+        op = SpectralOperator(cell, mat, LAYERS[lay](), (v, 0.0))
+        kw = ({"mean_pressure": 0.004} if kind == "load"
+              else {"penetration": 0.3 * float(h.max() - h.mean())})
+        t = time.process_time()
+        ref = active_set(op, h, tol=TOL, **kw)
+        t_ref = time.process_time() - t
+        t = time.process_time()
+        res = solve_contact(op, h, tol=TOL, **kw)
+        t_new = time.process_time() - t
+        row = dict(beta=beta, zeta=zeta, control=kind, layer=lay, area=float(ref[3].mean()),
+                   active_converged=bool(ref[5]), active_seconds=t_ref,
+                   active_products=int(ref[4]), converged=bool(res.converged),
+                   method=res.method, seconds=t_new,
+                   pairs=float(res.diagnostics.get("fft_pairs", np.nan)),
+                   set_diff=int(np.count_nonzero(ref[3] != res.mask)),
+                   p_rel=float(np.linalg.norm(ref[0] - res.pressure)
+                               / max(np.linalg.norm(ref[0]), 1e-300)))
+        rows.append(row)
+        print(json.dumps(row), flush=True)
+    return rows
+
+
+def robustness_markdown(rows) -> str:
+    both = [r for r in rows if r["active_converged"] and r["converged"]]
+    agree = [r for r in both if r["set_diff"] == 0 and r["p_rel"] < 1e-8]
+    only_new = [r for r in rows if r["converged"] and not r["active_converged"]]
+    neither = [r for r in rows if not r["converged"] and not r["active_converged"]]
+    only_ref = [r for r in rows if r["active_converged"] and not r["converged"]]
+    fell = [r for r in rows if r["method"] == "active-set"]
+    speed = [r["active_seconds"] / max(r["seconds"], 1e-9) for r in both]
+
+    def cases(rs):
+        return ", ".join(f"β {r['beta']:g} ζ {r['zeta']:g} {r['control']} {r['layer']}"
+                         for r in rs) or "none"
+
+    return (f"{len(rows)} cases: both converged in {len(both)}, of which {len(agree)} with "
+            f"the same contact set and pressures within 1e-8 (largest difference "
+            f"{max((r['p_rel'] for r in both), default=0):.1e}); the default solver "
+            f"{np.median(speed):.1f}× faster in the median (CPU s, range "
+            f"{min(speed, default=0):.1f}-{max(speed, default=0):.1f}×). Converged by the "
+            f"default solver only: {cases(only_new)}. By the active set only: "
+            f"{cases(only_ref)}. By neither: {cases(neither)}. The Newton steps fell back to "
+            f"the active set in: {cases(fell)}.")
+
+
+def starts():
+    sys.path.insert(0, str(ROOT / "tests"))
+    import test_newton as tn
+
+    def variants(op):
+        return {"|Ĉ|": op.magnitude_part(), "Re Ĉ": op.even_part(),
+                "E0": SpectralOperator(op.cell, Elastic(1.0, 0.5), op.layer)}
+
+    rows = []
+    cases = [(b, z, lay, kind) for b in (10.0, 100.0, 1e4) for z in (1e-3, 0.1, 1.0, 10.0, 1e3)
+             for lay in ("half", "glued") for kind in ("load", "penetration")]
+    for b, z, lay, kind in cases:
+        op, h = tn.operator(b, z, lay)
+        rows.append(_start_row(dict(N=64, beta=b, zeta=z, layer=lay, control=kind), op, h,
+                               tn.control(kind, h), variants(op)))
+    h, visco, _el = operators(1024)
+    rows.append(_start_row(dict(N=1024, beta=10.0, zeta=ZETA, layer="half", control="load"),
+                           visco, h, {"mean_pressure": PBAR}, variants(visco)))
+    return rows
+
+
+def _start_row(row, op, h, kw, variants):
+    for name, sym in variants.items():
+        p, *_rest, pairs = polonsky_keer(sym, h, tol=newton.START_TOL,
+                                         maxiter=newton.START_MAXITER, **kw)
+        r = newton.newton_contact(op, h, tol=TOL, mask0=p > 0, p0=p, **kw)
+        row[name] = dict(pairs=pairs + r[8], converged=bool(r[5]),
+                         start_area=float(np.mean(p > 0)), area=float(np.mean(r[3])))
+    print(json.dumps(row), flush=True)
+    return row
+
+
+def starts_markdown(rows) -> str:
+    names = ("|Ĉ|", "Re Ĉ", "E0")
+    grid = [r for r in rows if r["N"] == 64]
+    ok = [r for r in grid if all(r[m]["converged"] for m in names)]
+    lines = ["| start | FFT pairs, sum over the cases all three converge | cases not converged |"
+             " 1024² table case: pairs (start area / final) |", "|---|---|---|---|"]
+    big = [r for r in rows if r["N"] == 1024]
+    for m in names:
+        b = big[0][m] if big else None
+        lines.append(f"| {m} | {sum(r[m]['pairs'] for r in ok):.0f} ({len(ok)} cases) | "
+                     f"{sum(not r[m]['converged'] for r in grid)} of {len(grid)} | "
+                     + (f"{b['pairs']:.0f} ({b['start_area']:.3f} / {b['area']:.3f})"
+                        if b else "—") + " |")
+    return "\n".join(lines)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--sizes", type=int, nargs="+", default=[256, 512, 1024, 2048])
     ap.add_argument("--runs", type=int, default=3)
     ap.add_argument("--out", default=str(ROOT / "bench" / "viscoelastic.json"))
+    ap.add_argument("--robustness", action="store_true")
+    ap.add_argument("--starts", action="store_true")
     a = ap.parse_args(argv)
+    stamp = f"Measured {time.strftime('%Y-%m-%d')} with `python bench/viscoelastic.py "
+    if a.robustness:
+        rows = robustness()
+        (ROOT / "bench" / "viscoelastic_robustness.json").write_text(json.dumps(rows, indent=1))
+        write_section("visco_robust", stamp + "--robustness` (128², tolerance 1e-10): "
+                      + robustness_markdown(rows))
+        return
+    if a.starts:
+        rows = starts()
+        (ROOT / "bench" / "viscoelastic_starts.json").write_text(json.dumps(rows, indent=1))
+        write_section("visco_starts", stamp + "--starts`:\n\n" + starts_markdown(rows))
+        return
     rows = []
     for n in a.sizes:
         rows += run_size(n, a.runs)

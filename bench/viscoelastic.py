@@ -28,8 +28,15 @@ the relaxed E0) over the 60 cases of tests/test_newton.py's 64² surface (β 10-
 1e-3-1e3, half-space and glued layer, both controls) and the table's surface at 1024²
 (section ``visco_starts``, bench/viscoelastic_starts.json).
 
+``--adhesive``: the adhesive state of cases/rough_convergence.toml (the physical surface,
+Δγ = 0.01 J/m², a0 = 7.8 µm, p̄ = 1e4 Pa, loading), elastic and SLS, against the
+adhesiveless solve of the same scene (adhesion removed), at 128², 256², 512² (section
+``adhesive_cost``, bench/viscoelastic_adhesive.json), and the figure
+docs/figures/solve_cost.png: CPU seconds against N² for the elastic PK, the viscoelastic
+adhesiveless and the adhesive solves.
+
 Usage: python bench/viscoelastic.py [--sizes 256 512 1024 2048] [--runs 3]
-       python bench/viscoelastic.py --robustness | --starts
+       python bench/viscoelastic.py --robustness | --starts | --adhesive [--sizes 128 256 512]
 """
 
 from __future__ import annotations
@@ -268,11 +275,89 @@ def starts_markdown(rows) -> str:
     big = [r for r in rows if r["N"] == 1024]
     for m in names:
         b = big[0][m] if big else None
-        lines.append(f"| {m} | {sum(r[m]['pairs'] for r in ok):.0f} ({len(ok)} cases) | "
+        label = m.replace("|", "\\|")  # a table cell
+        lines.append(f"| {label} | {sum(r[m]['pairs'] for r in ok):.0f} ({len(ok)} cases) | "
                      f"{sum(not r[m]['converged'] for r in grid)} of {len(grid)} | "
                      + (f"{b['pairs']:.0f} ({b['start_area']:.3f} / {b['area']:.3f})"
                         if b else "—") + " |")
     return "\n".join(lines)
+
+
+def adhesive_rows(sizes):
+    from spectralbem.scenes import load_scene, read_scene_file, solve
+
+    case = ROOT / "cases" / "rough_convergence.toml"
+    rows = []
+    for n in sizes:
+        for material in ("elastic", "sls"):
+            raw = read_scene_file(case)
+            raw["control"] = {"mean_pressure": 1e4}
+            if material == "elastic":
+                raw["material"] = {"kind": "elastic", "E": 1e6, "nu": 0.5}
+            free = {k: v for k, v in raw.items() if k != "adhesion"}
+            ov = {"grid.Nx": n, "grid.Ny": n}
+            times = {}
+            solve(load_scene(free, overrides=ov, base_dir=case.parent))  # plans, compiles
+            for name, r in (("adhesiveless", free), ("adhesive", raw)):
+                scene = load_scene(r, overrides=ov, base_dir=case.parent)
+                t = time.process_time()
+                ds = solve(scene)
+                times[name] = (time.process_time() - t, ds)
+            ds = times["adhesive"][1]
+            row = dict(N=n, material=material, adhesive_seconds=times["adhesive"][0],
+                       adhesiveless_seconds=times["adhesiveless"][0],
+                       ratio=times["adhesive"][0] / times["adhesiveless"][0],
+                       status=str(ds["status"].values), outer=int(ds["iterations"]),
+                       area=float(ds["area_fraction"]),
+                       area_adhesiveless=float(times["adhesiveless"][1]["area_fraction"]))
+            rows.append(row)
+            print(json.dumps(row), flush=True)
+    return rows
+
+
+def adhesive_markdown(rows) -> str:
+    lines = ["| N² | material | adhesive state (s) | adhesiveless (s) | ratio | status | "
+             "front iterations | area (adhesive / adhesiveless) |",
+             "|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['N']}² | {r['material']} | {r['adhesive_seconds']:.2f} | "
+                     f"{r['adhesiveless_seconds']:.3f} | **{r['ratio']:.0f}×** | {r['status']} | "
+                     f"{r['outer']} | {r['area']:.4f} / {r['area_adhesiveless']:.4f} |")
+    return "\n".join(lines)
+
+
+def cost_figure(adhesive, table):
+    """CPU seconds against N² (log-log): elastic PK, viscoelastic adhesiveless, adhesive."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.4), constrained_layout=True)
+    newton_rows = [r for r in table if r["method"] == "newton"]
+    series = [
+        ("elastic PK (Tamaas-table surface)", newton_rows, "elastic_seconds", "k", "o"),
+        ("viscoelastic, semismooth Newton (same)", newton_rows, "seconds", "C0", "s"),
+    ]
+    for mat, colour in (("elastic", "C2"), ("sls", "C3")):
+        rs = [r for r in adhesive if r["material"] == mat]
+        series.append((f"adhesive state, {mat} (rough_convergence)", rs, "adhesive_seconds",
+                       colour, "^"))
+        series.append((f"its adhesiveless solve, {mat}", rs, "adhesiveless_seconds", colour, "v"))
+    for label, rs, key, colour, marker in series:
+        if rs:
+            n2 = [r["N"] ** 2 for r in rs]
+            ax.loglog(n2, [r[key] for r in rs], marker=marker, color=colour, label=label,
+                      ls="-" if marker in "os^" else "--")
+    ax.set_xlabel("grid cells N²")
+    ax.set_ylabel("CPU seconds (one thread)")
+    ax.set_title("Cost of a solve against the grid size")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    out = ROOT / "docs" / "figures" / "solve_cost.png"
+    out.parent.mkdir(exist_ok=True)
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
 
 
 def main(argv=None):
@@ -283,6 +368,7 @@ def main(argv=None):
     ap.add_argument("--out", default=str(ROOT / "bench" / "viscoelastic.json"))
     ap.add_argument("--robustness", action="store_true")
     ap.add_argument("--starts", action="store_true")
+    ap.add_argument("--adhesive", action="store_true")
     a = ap.parse_args(argv)
     stamp = f"Measured {time.strftime('%Y-%m-%d')} with `python bench/viscoelastic.py "
     if a.robustness:
@@ -290,6 +376,15 @@ def main(argv=None):
         (ROOT / "bench" / "viscoelastic_robustness.json").write_text(json.dumps(rows, indent=1))
         write_section("visco_robust", stamp + "--robustness` (128², tolerance 1e-10): "
                       + robustness_markdown(rows))
+        return
+    if a.adhesive:
+        sizes = a.sizes if a.sizes != ap.get_default("sizes") else [128, 256, 512]
+        rows = adhesive_rows(sizes)
+        (ROOT / "bench" / "viscoelastic_adhesive.json").write_text(json.dumps(rows, indent=1))
+        write_section("adhesive_cost", stamp + f"--adhesive --sizes {' '.join(map(str, sizes))}"
+                      "` (CPU seconds, one thread):\n\n" + adhesive_markdown(rows))
+        table = json.loads(Path(a.out).read_text()) if Path(a.out).exists() else []
+        cost_figure(rows, table)
         return
     if a.starts:
         rows = starts()

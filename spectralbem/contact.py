@@ -554,7 +554,7 @@ def solve_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     ``method``: 'auto' (Polonsky–Keer for a symmetric operator, the semismooth Newton method
     of :mod:`spectralbem.newton` otherwise, falling back to the active set where it does not
     converge), or 'active-set' (exact masked solves: the reference the Newton method is
-    tested against, 3-100× slower)."""
+    tested against, 3-100× slower); a symmetric operator always runs Polonsky–Keer."""
     from .newton import newton_contact
 
     if method not in ("auto", "active-set"):
@@ -580,8 +580,8 @@ def solve_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         diag = {"outer_iterations": outer, "fft_pairs": pairs}
         if not conv:
             # the exact-solve active set, from its own start: slower, but it converges on
-            # some glassy thin-layer cases where the Newton steps stall (β = 1e4, ζ = 1 on
-            # a rough 64² under a thin layer; docs/performance.md)
+            # some cases where the Newton steps wander (measured: β = 100, ζ = 1 on the
+            # rough 128² surface of `bench/viscoelastic.py --robustness`)
             p, u, delta, mask, more, conv, msg2, outer2 = active_set(
                 op, h, mean_pressure=mean_pressure, penetration=penetration, tol=tol)
             its += more

@@ -35,10 +35,14 @@ bench: $(STAMP)
 	$(BIN)/python bench/pk_restart.py
 	$(BIN)/python bench/krylov.py
 	$(BIN)/python bench/viscoelastic.py
+	$(BIN)/python bench/viscoelastic.py --starts
+	$(BIN)/python bench/viscoelastic.py --robustness
+	$(BIN)/python bench/viscoelastic.py --adhesive
 	$(BIN)/python bench/scaling.py
 	$(BIN)/python bench/sphere.py 512 default 6
 	$(BIN)/python bench/accuracy.py
 	$(BIN)/python bench/sweep2d.py
+	$(BIN)/python bench/sweep2d.py --rough 512
 	$(BIN)/python bench/oned.py
 	$(BIN)/python bench/rough_convergence.py
 

@@ -4,16 +4,18 @@ Solves ``(C p)_i = b_i`` for i ∈ A with ``p = 0`` off A (seed Eq. (15) on a gr
 :class:`~spectralbem.spectral.SpectralOperator`.
 
 * Symmetric operator (elastic, or v = 0): conjugate gradients.
-* Non-symmetric (viscoelastic sliding): BiCGSTAB with the Fourier preconditioner
-  ``M = P F⁻¹[1/Ĉ] F P`` (docs/derivations.md §8), falling back to right-preconditioned
-  GMRES(m) (m = 300 where memory allows) when BiCGSTAB breaks down or stagnates.  The
-  masked matrix P C P has a positive-definite symmetric part (Re 1/E > 0), so both are well
-  posed.
+* Non-symmetric (viscoelastic sliding): right-preconditioned GMRES with the Fourier
+  preconditioner ``M = P F⁻¹[1/Ĉ] F P`` (docs/derivations.md §8), fused with the operator
+  (:class:`PackedSystem`, :func:`fused_gmres`: two FFT pairs per product on the plan's own
+  buffers, packed vectors of the mask); scipy's GMRES(m) (m = 300 where memory allows)
+  takes over the rest of the guard if it stalls.  scipy's BiCGSTAB and GMRES remain
+  available (``method``).  The masked matrix P C P has a positive-definite symmetric part
+  (Re 1/E > 0), so both are well posed.
 * Warm starts through ``x0``.  An iteration guard (``maxiter`` matrix-vector products) always
   terminates; the returned :class:`SolveResult` states whether the *true* residual
   ``‖b - A x‖/‖b‖`` met the tolerance.
 
-The scipy Krylov implementations are used on the packed vector of mask values.
+scipy's Krylov implementations work on the packed vector of mask values.
 """
 
 from __future__ import annotations
@@ -242,12 +244,13 @@ def solve_masked(op: SpectralOperator, mask: np.ndarray, rhs: np.ndarray, *, x0=
         'bicgstab', 'gmres' (scipy, on :class:`MaskedSystem`) or 'fused'.
     precondition : Fourier preconditioner; default on for non-symmetric systems.
     transpose : solve with Cᵀ (adjoint solve).
-    restart : GMRES restart length; default ``RESTART_MAX`` (300) as far as its Krylov basis
-        fits in ``RESTART_BYTES`` (200 MB), at least 60.  Measured on the rough 256² mask at
-        β = 1e4, ζ = 10: GMRES(60) needs 5894 products, GMRES(300) 1370 (the guard is 2065).
-        The basis exists only in the fallback; it can exceed the adhesive solve's memory
-        budget of 25 N² arrays on mid-size grids (a 26k-cell mask at 512²: 63 MB, 30 arrays),
-        which is why the cap is in bytes.
+    restart : scipy's GMRES restart length; default ``RESTART_MAX`` (300) as far as its
+        Krylov basis fits in ``RESTART_BYTES`` (200 MB), at least 60 (the fused GMRES uses
+        the same cap).  Measured on the rough 256² mask at β = 1e4, ζ = 10: GMRES(60) needs
+        5894 products, GMRES(300) 1370 (the guard is 2065).  A full basis can exceed the
+        adhesive solve's memory budget of 25 N² arrays on mid-size grids (a 26k-cell mask at
+        512²: 63 MB, 30 arrays); only stagnating solves grow it that far (typical rough
+        solves hold 20-60 vectors), which is why the cap is in bytes.
     """
     sys_ = MaskedSystem(op, mask, transpose=transpose)
     n = sys_.n

@@ -7,6 +7,7 @@ point to touch, and the displacement prescribed in contact is ``w = h - max(h) +
 
 from __future__ import annotations
 
+import hashlib
 import stat
 from pathlib import Path
 
@@ -225,6 +226,24 @@ def read_heights(path, *, variable: str = "heights", scale: float = 1.0,
     path = Path(path)
     scale = _finite_positive("scale", scale)
     check_input_file(path, "height map", max_bytes)
+    # the content's digest, not its modification time (a file rewritten within the clock's
+    # granularity would otherwise be taken for the one read before)
+    key = (str(path.resolve()), hashlib.blake2b(path.read_bytes(), digest_size=16).digest(),
+           variable, scale)
+    if _LAST_READ and _LAST_READ[0] == key:  # a scene reads its map twice (grid, surface)
+        return _LAST_READ[1].copy(), _LAST_READ[2]
+    h, size = _read_heights(path, variable, scale)
+    _LAST_READ[:] = [key, h, size]
+    return h.copy(), size
+
+
+#: the last height map read: (key, heights, size), the key naming the file, a digest of its
+#: contents and the reading options
+_LAST_READ: list = []
+
+
+def _read_heights(path: Path, variable: str, scale: float):
+    """The reading of :func:`read_heights` (the file already checked)."""
     suffix = path.suffix.lower()
     size = None
     try:

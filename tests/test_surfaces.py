@@ -197,7 +197,7 @@ def test_netcdf_height_map_in_micrometres_is_read_in_metres(tmp_path):
                     "control": {"mean_pressure": "10 kPa"}})
 
 
-def test_a_height_map_scene_takes_its_grid_from_the_file(tmp_path):
+def test_a_height_map_scene_takes_its_grid_from_the_file(tmp_path, monkeypatch):
     """Without a [grid] the scene takes Nx, Ny from the map's shape and Lx, Ly from the size
     the netCDF file states; a .npy map states no size, so Lx, Ly stay required (named)."""
     import xarray as xr
@@ -210,8 +210,22 @@ def test_a_height_map_scene_takes_its_grid_from_the_file(tmp_path):
                ).to_netcdf(tmp_path / "t.nc")
     common = {"material": {"kind": "elastic", "E": "1 MPa", "nu": 0.5},
               "control": {"mean_pressure": "10 kPa"}}
+    from spectralbem import surfaces
+
+    reads = []
+    real = surfaces._read_heights
+    monkeypatch.setattr(surfaces, "_read_heights", lambda *a: reads.append(a) or real(*a))
     sc = load_scene({"surface": {"kind": "file", "path": str(tmp_path / "t.nc")}, **common})
+    assert len(reads) == 1  # the grid and the surface share one reading of the file
     assert sc.cell.shape == (24, 16)
+    np.testing.assert_allclose(sc.heights, h * 1e-6)
+    # a file rewritten in place (same name and size) is read again
+    xr.Dataset({"heights": (("x", "y"), 2 * h, {"units": "um"})},
+               coords={"x": ("x", x, {"units": "um"}), "y": ("y", y, {"units": "um"})}
+               ).to_netcdf(tmp_path / "t.nc")
+    sc2 = load_scene({"surface": {"kind": "file", "path": str(tmp_path / "t.nc")}, **common})
+    assert len(reads) == 2
+    np.testing.assert_allclose(sc2.heights, 2e-6 * h)
     assert (sc.cell.Lx, sc.cell.Ly) == pytest.approx((5e-4, 2.5e-4), rel=1e-9)
     np.save(tmp_path / "t.npy", h)
     with pytest.raises(SceneError, match="grid.Lx"):

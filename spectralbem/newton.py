@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .masked import PackedSystem, fused_gmres
+from .masked import solve_packed
 from .spectral import SpectralOperator
 
 #: relative residual of the masked solves while the contact set still moves
@@ -66,28 +66,6 @@ STALL = 0.5
 #: sets still shed thousands of cells per step at the loose tolerance, and tightening there
 #: made each step 3× dearer)
 STALL_CELLS = 32
-
-
-def _masked_solve(op, mask, p, w, load, target, rtol, maxiter, forcing=FORCING):
-    """Solve (C p)_A = (w + Δ)_A on the set A (p = 0 off A) from the warm start ``p``.
-
-    Under load control Σ p = ``target`` (the start is shifted on A to satisfy it; the
-    correction is mean-free) and Δ is the mean of (C p − w) on A.  Returns (p, applications,
-    FFT pairs, estimated relative residual)."""
-    sys_ = PackedSystem(op, mask, load)
-    x0 = p.reshape(-1).take(sys_.idx)
-    if load:
-        x0 += (target - x0.sum()) / sys_.n
-    b = w.reshape(-1).take(sys_.idx)
-    if load:
-        b = b - b.mean()
-    r0 = b - sys_.operator(x0)
-    bnorm = float(np.linalg.norm(b))
-    rr = float(np.linalg.norm(r0)) / bnorm if bnorm > 0 else 0.0
-    x, used, rel = fused_gmres(sys_, r0, min(rtol / max(rr, 1e-300), forcing), maxiter)
-    out = np.zeros(p.size)
-    out.put(sys_.idx, x0 + x)
-    return out.reshape(p.shape), used, sys_.pairs, rel * rr
 
 
 def _gap(op, p, w, mask, load):
@@ -187,7 +165,7 @@ def newton_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetra
                 mask = p > 0
                 continue
         guard = int(20 * np.sqrt(np.count_nonzero(mask)) + 500)
-        p, used, pp, rel = _masked_solve(op, mask, p, w, load, target, eta, guard,
+        p, used, pp, rel = solve_packed(op, mask, p, w, target if load else None, eta, guard,
                                          FORCING if moved else 1.0)
         iterations += used
         pairs += pp + 1

@@ -86,6 +86,9 @@ def rough_sweep(n: int, workers: int) -> None:
     k = int(np.nanargmax(np.where(np.array(status) == "partial", mu, np.nan))) \
         if "partial" in counts else None
     peak = (f"; μ peaks at {mu[k]:.3f} at ζ = {zetas[k]:.2g}" if k is not None else "")
+    failed = [f"{z:.2g}" for z, st in zip(zetas, status, strict=True) if st != "partial"]
+    if failed:
+        peak += f"; not partial at ζ = {', '.join(failed)}"
     text = (f"Measured {time.strftime('%Y-%m-%d')} with `python bench/sweep2d.py --rough {n}` "
             f"({workers} dask workers, one thread each): 25 sliding speeds (ζ = 1e-3 … 1e2 at "
             f"the roll-off) of the adhesive SLS rough scene `cases/rough_convergence.toml` at "

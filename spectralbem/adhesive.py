@@ -495,6 +495,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
             # exact tests take over ("hybrid"), or only evaluate the outputs ("predictor")
             phase = "exact"
             osc = _Oscillation(cell.shape)
+        tests = None  # the last state's tests (kept on a balanced mask): freed first
         tests = front_tests(op, w, mask, p, dgamma, a0, u=u, **test_kw)
         solves += tests.solves
         if not tests.converged:

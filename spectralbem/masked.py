@@ -19,6 +19,7 @@ scipy's Krylov implementations work on the packed vector of mask values.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -235,9 +236,15 @@ class MaskedSystem:
         self.idx = np.flatnonzero(mask)
         self.n = self.idx.size
         self.transpose = transpose
-        self._full = np.zeros(op.cell.shape)
-        self._out = np.empty(op.cell.shape)
         self.matvecs = 0
+
+    @functools.cached_property
+    def _full(self) -> np.ndarray:  # work arrays of scipy's solvers, allocated on first use
+        return np.zeros(self.op.cell.shape)
+
+    @functools.cached_property
+    def _out(self) -> np.ndarray:
+        return np.empty(self.op.cell.shape)
 
     def expand(self, x: np.ndarray) -> np.ndarray:
         full = np.zeros(self.op.cell.shape)

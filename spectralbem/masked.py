@@ -197,8 +197,8 @@ def fused_gmres(system: PackedSystem, r0: np.ndarray, rtol: float, maxiter: int)
 def solve_packed(op: SpectralOperator, mask: np.ndarray, p: np.ndarray, w: np.ndarray,
                  total: float | None, rtol: float, maxiter: int, forcing: float = 1.0):
     """Solve (C p)_A = (w + Δ)_A on the set A (p = 0 off A) from the warm start ``p`` by the
-    fused GMRES, to the relative residual ``rtol`` or ``forcing`` times the start's,
-    whichever is smaller.
+    fused preconditioned CG (symmetric C) or GMRES, to the relative residual ``rtol`` or
+    ``forcing`` times the start's, whichever is smaller.
 
     ``total`` None: Δ = 0.  Otherwise Σ p = ``total`` and Δ is the unknown constant that
     allows it (a Lagrange multiplier, the mean of C p − w on A): the start is shifted on A
@@ -206,16 +206,19 @@ def solve_packed(op: SpectralOperator, mask: np.ndarray, p: np.ndarray, w: np.nd
     mean-free vectors (docs/derivations.md §8), one solve instead of two.  Returns (p,
     products, FFT pairs, estimated relative residual of the projected equations)."""
     load = total is not None
-    target = total
     sys_ = PackedSystem(op, mask, load)
+    if sys_.n == 0:
+        return np.zeros(p.shape), 0, 0, 0.0
     x0 = p.reshape(-1).take(sys_.idx)
     if load:
-        x0 += (target - x0.sum()) / sys_.n
+        x0 += (total - x0.sum()) / sys_.n
     b = w.reshape(-1).take(sys_.idx)
     if load:
         b = b - b.mean()
     r0 = b - sys_.operator(x0)
-    bnorm = float(np.linalg.norm(b))
+    # relative to the right-hand side; when it vanishes (a flat profile on A under load
+    # control: the whole answer is the load's), relative to the start's residual
+    bnorm = float(np.linalg.norm(b)) or float(np.linalg.norm(r0))
     rr = float(np.linalg.norm(r0)) / bnorm if bnorm > 0 else 0.0
     krylov = fused_cg if op.symmetric else fused_gmres
     x, used, rel = krylov(sys_, r0, min(rtol / max(rr, 1e-300), forcing), maxiter)

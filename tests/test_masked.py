@@ -111,3 +111,24 @@ def test_high_contrast_rough_mask_converges_within_the_guard():
     assert r.iterations <= 20 * np.sqrt(mask.sum()) + 500
     x = op.apply(r.field)[mask]
     assert np.linalg.norm(x - h[mask]) <= 1e-9 * np.linalg.norm(h[mask])
+
+
+@pytest.mark.parametrize("material, velocity", [(Elastic(1.0, 0.5), (0, 0)),
+                                                (SLS, (0.05, 0.0))])
+def test_projected_solve_of_a_flat_punch(material, velocity):
+    """A flat profile under load control: the projected right-hand side vanishes and the
+    whole answer is the load's (the punch's edge-singular pressure), which the solve must
+    still find — against scipy's GMRES for a unit displacement, scaled to the load."""
+    from spectralbem.masked import solve_packed
+
+    op = SpectralOperator(CELL, material, velocity=velocity)
+    X, Y = CELL.coordinates()
+    punch = np.hypot(X - 0.5, Y - 0.5) < 0.15
+    total = float(punch.sum())
+    p, used, _pairs, rel = solve_packed(op, punch, np.zeros(CELL.shape), np.zeros(CELL.shape),
+                                        total, 1e-10, 2000)
+    unit = solve_masked(op, punch, np.ones(CELL.shape), rtol=1e-12, method="gmres").field
+    ref = unit * total / unit.sum()
+    assert used > 0 and rel <= 1e-10
+    assert np.linalg.norm(p - ref) / np.linalg.norm(ref) < 1e-8
+    assert np.ptp(p[punch]) > p[punch].mean()  # not the uniform start

@@ -557,6 +557,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
                 break
             corr = new_corr
             osc.seen.clear()
+            tests = res_out = None  # freed before the next state's solves
             continue
         reason = osc.step(mask, add | remove)
         if reason or it == max_outer:

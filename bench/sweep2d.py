@@ -37,6 +37,22 @@ from run import write_section  # noqa: E402
 ROOT = Path(__file__).resolve().parent.parent
 
 
+def timed_sweep(case: str, over: list, workers: int, overrides: dict):
+    """Run the sweep of ``cases/<case>`` in a temporary folder: (wall seconds, dataset,
+    status per point, count per status)."""
+    tmp = Path(tempfile.mkdtemp(prefix="sb_sweep_bench_"))
+    try:
+        t = time.perf_counter()
+        path = run_sweep(ROOT / "cases" / case, over, tmp / "sweep.nc", workers=workers,
+                         progress=False, overrides=overrides)
+        wall = time.perf_counter() - t
+        ds = xr.load_dataset(path)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    status = [str(s) for s in np.asarray(ds["status"].values).ravel()]
+    return wall, ds, status, {s: status.count(s) for s in sorted(set(status))}
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--workers", type=int, default=2)
@@ -45,18 +61,9 @@ def main(argv=None):
     if args.rough:
         return rough_sweep(args.rough, args.workers)
     zetas = np.geomspace(1e-3, 1e2, 25)
-    tmp = Path(tempfile.mkdtemp(prefix="sb_sweep2d_"))
-    try:
-        t = time.perf_counter()
-        path = run_sweep(ROOT / "cases" / "seed_sinusoid_2d.toml", [("zeta", zetas)],
-                         tmp / "sweep.nc", workers=args.workers, progress=False,
-                         overrides={"sinusoid.cells_per_wavelength": 4096, "sinusoid.ny": 8})
-        wall = time.perf_counter() - t
-        ds = xr.load_dataset(path)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
-    status = [str(s) for s in np.asarray(ds["status"].values).ravel()]
-    counts = {s: status.count(s) for s in sorted(set(status))}
+    wall, _ds, _status, counts = timed_sweep(
+        "seed_sinusoid_2d.toml", [("zeta", zetas)], args.workers,
+        {"sinusoid.cells_per_wavelength": 4096, "sinusoid.ny": 8})
     m = f"{0.01 / (2 * np.pi / 4096):.2f}"  # ã0 = k a0 with k = 2π/λ: a0/h = ã0 · 4096/(2π)
     text = (f"Measured {time.strftime('%Y-%m-%d')} with `python bench/sweep2d.py` "
             f"({args.workers} dask workers, one thread each): 25 ζ points from 1e-3 to 1e2 of "
@@ -70,18 +77,9 @@ def main(argv=None):
 def rough_sweep(n: int, workers: int) -> None:
     zetas = np.geomspace(1e-3, 1e2, 25)
     speeds = zetas * (3.98e-4 / 0.1)  # the case's speed gives ζ = 0.1 at the roll-off
-    tmp = Path(tempfile.mkdtemp(prefix="sb_sweep_rough_"))
-    try:
-        t = time.perf_counter()
-        path = run_sweep(ROOT / "cases" / "rough_convergence.toml", [("motion.speed", speeds)],
-                         tmp / "sweep.nc", workers=workers, progress=False,
-                         overrides={"grid.Nx": n, "grid.Ny": n, "control.mean_pressure": 1e4})
-        wall = time.perf_counter() - t
-        ds = xr.load_dataset(path)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
-    status = [str(s) for s in np.asarray(ds["status"].values).ravel()]
-    counts = {s: status.count(s) for s in sorted(set(status))}
+    wall, ds, status, counts = timed_sweep(
+        "rough_convergence.toml", [("motion.speed", speeds)], workers,
+        {"grid.Nx": n, "grid.Ny": n, "control.mean_pressure": 1e4})
     mu = np.asarray(ds["mu"].values).ravel()
     k = int(np.nanargmax(np.where(np.array(status) == "partial", mu, np.nan))) \
         if "partial" in counts else None

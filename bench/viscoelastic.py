@@ -93,8 +93,8 @@ def timed(fn, runs):
 
 def candidates(h, visco):
     def relaxed_start():
-        op = SpectralOperator(visco.cell, Elastic(1.0, 0.5))
-        p, *_rest, pairs = polonsky_keer(op, h, mean_pressure=PBAR, tol=newton.START_TOL)
+        p, *_rest, pairs = polonsky_keer(visco.relaxed_part(), h, mean_pressure=PBAR,
+                                         tol=newton.START_TOL)
         r = newton.newton_contact(visco, h, mean_pressure=PBAR, tol=TOL, mask0=p > 0, p0=p)
         return r[:8] + (r[8] + pairs,)
 
@@ -240,7 +240,7 @@ def starts():
 
     def variants(op):
         return {"|Ĉ|": op.magnitude_part(), "Re Ĉ": op.even_part(),
-                "E0": SpectralOperator(op.cell, Elastic(1.0, 0.5), op.layer)}
+                "E0": op.relaxed_part()}
 
     rows = []
     cases = [(b, z, lay, kind) for b in (10.0, 100.0, 1e4) for z in (1e-3, 0.1, 1.0, 10.0, 1e3)

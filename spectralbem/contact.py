@@ -456,13 +456,9 @@ def active_set(op: SpectralOperator, heights, *, mean_pressure=None, penetration
     if not load and float(penetration) <= 0:
         return untouched(cell, penetration) + (0,)
     if mask0 is None:
-        # start from the elastic solution of the symmetric part of the kernel
-        from .materials import Elastic
-
-        sym = SpectralOperator(cell, Elastic(op.material.E0, op.material.nu), op.layer,
-                               (0.0, 0.0), op.threads)
-        p_e, *_ = polonsky_keer(sym, h, mean_pressure=mean_pressure, penetration=penetration,
-                                tol=1e-6, maxiter=2000)
+        # start from the solution of the relaxed elastic slab
+        p_e, *_ = polonsky_keer(op.relaxed_part(), h, mean_pressure=mean_pressure,
+                                penetration=penetration, tol=1e-6, maxiter=2000)
         mask = p_e > 0
         p = p_e
     else:

@@ -43,7 +43,6 @@ class SolveResult:
     method: str
 
 
-
 #: DGKS threshold: a second Gram–Schmidt pass when ‖w‖ drops below this fraction of itself
 REORTHOGONALISE = 2**-0.5
 

@@ -98,15 +98,13 @@ def _start(op, h, mean_pressure, penetration, tol):
     Re Ĉ on a thin layer under pressure, 2000 iterations without converging), PK on the
     relaxed elastic kernel (E0).  Returns (p, FFT pairs)."""
     from .contact import polonsky_keer
-    from .materials import Elastic
 
     kw = dict(mean_pressure=mean_pressure, penetration=penetration, tol=tol)
     p, _u, _d, _it, ok, _m, pairs = polonsky_keer(op.magnitude_part(), h,
                                                   maxiter=START_MAXITER, **kw)
     if not ok:
-        relaxed = SpectralOperator(op.cell, Elastic(op.material.E0, op.material.nu), op.layer,
-                                   (0.0, 0.0), op.threads)
-        p, _u, _d, _it, _ok, _m, more = polonsky_keer(relaxed, h, maxiter=2000, **kw)
+        p, _u, _d, _it, _ok, _m, more = polonsky_keer(op.relaxed_part(), h, maxiter=2000,
+                                                      **kw)
         pairs += more
     return p, pairs
 

@@ -200,6 +200,14 @@ class SpectralOperator:
         replace the viscoelastic slab; ``self`` when already symmetric."""
         return self._symmetric_with(np.abs(self.kernel))
 
+    def relaxed_part(self) -> "SpectralOperator":
+        """The operator of the relaxed elastic slab (E0, same layer, at rest): the start of
+        the viscoelastic contact solvers where the sliding kernel is not wanted."""
+        from .materials import Elastic
+
+        return SpectralOperator(self.cell, Elastic(self.material.E0, self.material.nu),
+                                self.layer, (0.0, 0.0), self.threads)
+
     def _symmetric_with(self, kernel) -> "SpectralOperator":
         if self.symmetric:
             return self

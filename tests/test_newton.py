@@ -129,6 +129,8 @@ def test_even_part_is_the_real_kernel():
         op.apply_even(p)).max())
     elastic, _ = operator(1.0, 1.0)
     assert elastic.even_part() is elastic
+    relaxed = op.relaxed_part()  # the slab at rest: 1/E0 at every wavevector
+    assert relaxed.symmetric and np.allclose(relaxed.kernel, elastic.kernel, rtol=1e-14)
 
 
 def test_solve_contact_falls_back_to_the_active_set(monkeypatch):

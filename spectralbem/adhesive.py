@@ -7,7 +7,7 @@ front-layer energy balance of :mod:`spectralbem.criterion`, evaluated at fixed �
    on a fixed mask p = p_w + Δ p_1 is linear in Δ);
 2. nucleation: cells outside A where the surfaces interpenetrate (g < 0) join A (jump-in);
 3. closing and opening band tests of width a0 give the balanced sub-cell edge of every front
-   cell (plus a0/2 in an elastic scene: the sharp-crack edge); the mask follows it to the
+   cell (in an elastic scene the sharp-crack edge G = Δγ); the mask follows it to the
    nearest cell centre, with no dead band;
 4. repeat until every resolved front cell is balanced within ``front_tol`` cells and, under
    load control, the sub-cell front carries the load (docs/theory.md).  Hysteresis is
@@ -34,9 +34,8 @@ from .criterion import (
     front_cells,
     front_tests,
     predictor_tests,
-    sub_cell_offset,
 )
-from .front import at_front
+from .front import at_front, sharp_crack_offset, sub_cell_offset
 from .masked import TRUE_RESIDUAL_MARGIN, solve_masked, solve_packed
 from .spectral import SpectralOperator
 from .surfaces import check_heights
@@ -74,7 +73,9 @@ class AdhesiveResult:
     a0: float = 0.0  # the advance width used: the one asked for (m)
     unresolved_patches: int = 0  # contact patches too thin for a band of width a0
     offset_in: np.ndarray | None = None  # the same on inner front cells (m)
-    edge_shift: float = 0.0  # a0/2 in elastic scenes (sharp-crack edge), 0 otherwise (m)
+    # a0/2 in elastic scenes (the sharp-crack edge's nominal shift from the seed's l*:
+    # front.sharp_crack_offset), 0 otherwise (m)
+    edge_shift: float = 0.0
     resolved: np.ndarray | None = None  # outer front cells of resolved patches
     balanced_fraction: float = float("nan")  # resolved front cells balanced within front_tol
     residual: float = float("nan")  # largest balance residual in position (cells)
@@ -141,17 +142,17 @@ def _neighbour_mean(field_: np.ndarray, where: np.ndarray, at: np.ndarray) -> np
         return np.where(c > 0, s / c, np.nan)
 
 
-def _offsets(F_close, F_open, outer, inner, a0, shift=0.0):
-    """Sub-cell offsets of the balanced edge (criterion.sub_cell_offset, plus ``shift``) on
-    the outer front cells (closing test there, opening tests of the neighbouring inner cells)
-    and on the inner front cells (the other way round); nan elsewhere."""
+def _offsets(F_close, F_open, outer, inner, a0, sharp=False):
+    """Sub-cell offsets of the balanced edge on the outer front cells (closing test there,
+    opening tests of the neighbouring inner cells) and on the inner front cells (the other
+    way round); nan elsewhere.  ``sharp``: the sharp-crack edge of an elastic scene
+    (front.sharp_crack_offset), else the seed's edge (front.sub_cell_offset)."""
+    offset = sharp_crack_offset if sharp else sub_cell_offset
     s_out = np.full(F_close.shape, np.nan)
     s_in = np.full(F_close.shape, np.nan)
     io, ii = np.flatnonzero(outer), np.flatnonzero(inner)
-    s_out.ravel()[io] = sub_cell_offset(F_close.ravel()[io],
-                                        _neighbour_mean(F_open, inner, io), a0) + shift
-    s_in.ravel()[ii] = sub_cell_offset(_neighbour_mean(F_close, outer, ii),
-                                       F_open.ravel()[ii], a0) + shift
+    s_out.ravel()[io] = offset(F_close.ravel()[io], _neighbour_mean(F_open, inner, io), a0)
+    s_in.ravel()[ii] = offset(_neighbour_mean(F_close, outer, ii), F_open.ravel()[ii], a0)
     return s_out, s_in
 
 
@@ -370,9 +371,9 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
 
     ``dgamma``: work of adhesion Δγ (J/m², scalar or per-cell map); ``a0``: advance width (m),
     at least one cell, used exactly (criterion.band_weights).  In an elastic scene the
-    reported edge is the sharp-crack edge l* + a0/2 (the closing band's work is a0 times G
-    at its midpoint, to second order in a0); in a viscoelastic scene a0 is physical and the
-    edge is the seed's l* (docs/theory.md).
+    reported edge is the sharp-crack edge G = Δγ of a stress-intensity factor linear over
+    the two bands (front.sharp_crack_offset); in a viscoelastic scene a0 is physical and
+    the edge is the seed's l* (docs/theory.md).
 
     ``criterion``: 'exact' (every iteration tests the front layers with masked solves),
     'hybrid' (the zero-solve predictor moves the front until it stops, then the exact tests
@@ -501,7 +502,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
         if not tests.converged:
             message = "layer test: " + tests.message
             break
-        s_out, s_in = _offsets(tests.F_close, tests.F_open, outer, inner, a0, shift)
+        s_out, s_in = _offsets(tests.F_close, tests.F_open, outer, inner, a0, shift > 0)
         blocked = _blocked(tests, w)
         held = pinned | blocked
         # under a tensile load, pinned cells that could open now and whose balance lies

@@ -569,22 +569,3 @@ def _smooth_on_front_graph(F, ok, sigma: float, weights, normal) -> np.ndarray:
     good = den > 0
     out.ravel()[idx[good]] = num[good] / den[good]
     return out
-
-
-def sub_cell_offset(F_close, F_open, a0: float):
-    """Offset of the balanced edge l* from the current edge x_b (length units).
-
-    F is evaluated with the edge at x_b (closing test) and at x_b - a0 (opening test); on a
-    stable branch it increases with the edge position, and l* follows by linear inter- or
-    extrapolation.  Where F does not increase (an unstable configuration) the offset is +inf
-    if closing is favourable, -inf if opening is, 0 otherwise.
-    """
-    Fc, Fo = np.asarray(F_close, float), np.asarray(F_open, float)
-    slope = Fc - Fo
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = np.where(slope > 0, -a0 * Fc / slope, np.nan)
-    unstable = ~(slope > 0) & ~np.isnan(slope)  # -inf: a forced closing (whole gap)
-    s = np.where(unstable & (Fc < 0), np.inf, s)
-    s = np.where(unstable & (Fc >= 0) & (Fo > 0), -np.inf, s)
-    s = np.where(unstable & (Fc >= 0) & (Fo <= 0), 0.0, s)
-    return s

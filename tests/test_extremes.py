@@ -263,8 +263,9 @@ def test_bit_identical_across_processes():
 
 
 @pytest.mark.xfail(strict=True, reason=(
-    "known defect: the elastic sharp-crack edge l* + a0/2 is second order in a0 only while a0 "
-    "is small against the gap it closes; here a0 = 4 cells against a 13-cell gap and the "
+    "known defect: the elastic sharp-crack edge (a stress-intensity factor linear over the "
+    "bands) is accurate only while a0 is small against the gap it closes; here a0 = 4 cells "
+    "against a 13-cell gap and the "
     "solver reports a 'partial' state at ã = 2.99 that Johnson's curve does not have "
     "(p̃ = -6.4 there). Load-control stability of 2D states is not yet checked."))
 def test_snap_in_to_full_contact_2d():
@@ -286,8 +287,12 @@ def test_leaving_full_contact_by_the_nucleation_rule():
     y-invariant crack of half-width c there releases G = π (p* − p̄)² c / (2 E*), so the flaw
     grows when c > 2Δγ E*/(π (p* − p̄)²): 0.40 at p̃ = 0 and 1.6 at p̃ = 0.5 (k = E* = 1
     units).  A flaw of 8 cells (c = 0.20) closes at p̃ = 0; one of 24 cells (c = 0.59) grows to
-    Johnson's partial contact (measured ã 1.3867 from the mask against 1.3839: within one
-    cell); at p̃ = 0.5 both close; below pull-off the contact detaches."""
+    Johnson's partial contact (measured: the balanced sub-cell edge 0.22 cells beyond
+    Johnson's ã = 1.3839; asserted within half a cell — the mask itself may stand up to one
+    cell from that edge, front_tol); at p̃ = 0.5 both close; below pull-off the contact
+    detaches."""
+    from spectralbem.solving import _edges_y_invariant
+
     cell = Cell(2 * np.pi, 2 * np.pi / N, N, 1)
     op = SpectralOperator(cell, Elastic(1.0, 0.0))
     h = sinusoid(cell, 1.0)
@@ -301,7 +306,8 @@ def test_leaving_full_contact_by_the_nucleation_rule():
                                flaw_radius=flaw * H)
             status[flaw, pt] = r.status
             if (flaw, pt) == (24, 0.0):
-                assert abs(r.mask.mean() * np.pi - ref.johnson_a(0.0, 0.05)) <= H
+                edges = _edges_y_invariant(r.mask, r.offset_out, cell)
+                assert abs(np.mean(edges) - ref.johnson_a(0.0, 0.05)) <= 0.5 * H
     assert status == {(8, 0.5): "full_contact", (8, 0.0): "full_contact",
                       (8, -0.3): "detached", (24, 0.5): "full_contact",
                       (24, 0.0): "partial", (24, -0.3): "detached"}

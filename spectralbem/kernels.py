@@ -1,5 +1,5 @@
 """Compiled inner loops: the Polonsky–Keer iteration (:func:`spectralbem.contact.polonsky_keer`)
-and the 1D kernel table (:class:`spectralbem.sinusoid1d.Kernel1D`).
+and the 1D kernel table (:class:`spectralbem.oned.kernel.Kernel1D`).
 
 Outside its FFTs one PK iteration is memory-bound: numpy needs one full pass per operation
 (a subtraction, a minimum, a mask, a product, ...) and a Python call for each.  These loops

@@ -7,9 +7,8 @@ the model, and the dataset records which one ran (attribute ``model``):
 
 * ``sinusoid1d`` — the seed's 1D method (a y-invariant sinusoid on an elastic or standard
   linear solid half-space sliding along x; chosen by ``model = "auto"``);
-* ``grid2d`` — the periodic grid: Polonsky–Keer for an elastic (or resting) adhesiveless
-  scene, the active set for viscoelastic sliding, the front-layer energy balance only when
-  Δγ > 0.  An elastic scene never builds E(ω); a half-space never evaluates S.
+* ``grid2d`` — the periodic grid: Polonsky–Keer (elastic or resting), semismooth Newton
+  (viscoelastic sliding); the front energy balance only when Δγ > 0.
 
 A list under ``control`` is a load/unload path, solved in order with the contact mask carried
 from step to step (adhesion hysteresis is physical: no global minimisation).
@@ -332,7 +331,7 @@ def _build_seed(spec: dict) -> Scene:
                   steps=len(values))
     lam = 2 * np.pi
     cell = Cell(lam, lam / n * ny, n, ny)
-    from .sinusoid1d import dimensionless_material
+    from .oned import dimensionless_material
 
     mat, v = dimensionless_material(s["zeta"], s["beta"])
     phi = np.radians(s["direction_deg"])

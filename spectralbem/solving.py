@@ -54,7 +54,7 @@ REPORTED = ("partial", "full_contact", "detached")
 
 
 def quotient(num: float, den: float, num_scale: float = 0.0, den_scale: float = 0.0) -> float:
-    """num/den with the 1D method's convention at no load (sinusoid1d._quotient): 0/0 = 0 (no
+    """num/den with the 1D method's convention at no load (oned.branches._quotient): 0/0 = 0 (no
     force at no load), ±inf for a finite numerator over 0.  A value within 1e-9 of its scale
     (the sum of the magnitudes it came from) counts as 0: round-off of a vanishing sum."""
     if abs(den) > 1e-9 * den_scale and den != 0.0:
@@ -228,7 +228,7 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10, progress=Non
         status, info["message"] = "not_converged", (
             f"the contact edges give ã = {out['a_tilde']!r} ≤ 0, so the state is not "
             f"reported as partial; solver: {info['message']}")
-    from .sinusoid1d import SCALARS as names
+    from .oned import SCALARS as names
 
     names = {**names, **SEED_EXTRA}
     data = {k: ((), float(v), {"units": "1", "long_name": names.get(k, k)})
@@ -369,7 +369,7 @@ def _smoothing(scene) -> dict:
 def _solve_1d(scene: Scene, guess=None):
     """A sinusoid scene through the seed's 1D method (dimensionless, then SI for physical
     scenes)."""
-    from . import sinusoid1d
+    from . import oned
 
     phys = scene.kind == "physical"
     d = _dimensionless_groups(scene) if phys else dict(scene.params, k=1.0, amp=1.0, pstar=0.5)
@@ -378,7 +378,7 @@ def _solve_1d(scene: Scene, guess=None):
                          "range [0, 1]")
     pt = None if scene.p_mean is None else scene.p_mean / d["pstar"]
     dt = None if scene.delta is None else scene.delta / d["amp"]
-    ds = sinusoid1d.solve(d["zeta"], d["beta"], d["Gamma"], p_tilde=pt, delta_tilde=dt,
+    ds = oned.solve(d["zeta"], d["beta"], d["Gamma"], p_tilde=pt, delta_tilde=dt,
                           a0_tilde=d["a0_tilde"], guess=guess)
     if not phys:
         return ds

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import sinusoid1d as s1
+from . import oned as s1
 from .scenes import Scene, solve
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -112,8 +112,8 @@ def jkr_cell(n: int, w: float = 2e-4):
 
 def griffith_radius(res, cell) -> float:
     """Equivalent radius of a disc-shaped contact at the Griffith edge: the mask radius plus
-    the mean sub-cell offset of the outer front, which in an elastic scene already holds the
-    a0/2 of the sharp-crack edge (docs/theory.md)."""
+    the mean sub-cell offset of the outer front, which in an elastic scene is already that of
+    the sharp-crack edge (docs/theory.md)."""
     a = np.sqrt(res.mask.sum() * cell.cell_area / np.pi)
     s = res.offset_out[res.tests.bands.outer_front]
     s = s[np.isfinite(s)]

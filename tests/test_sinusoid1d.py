@@ -7,6 +7,7 @@ import pytest
 from spectralbem import reference as ref
 from spectralbem import sinusoid1d as s1
 from spectralbem.materials import Elastic, StandardLinearSolid
+from spectralbem.oned import problem
 
 GAMMA, BETA = 0.008, 10.0
 
@@ -205,7 +206,7 @@ def test_equilibrium_rejects_a_state_that_interpenetrates(monkeypatch):
     # the root finder's unknowns are the half-width and centre (a, c) = (0.6, 1.0)
     flank = SimpleNamespace(x=np.array([0.6, 1.0]), fun=np.zeros(2), message="forced",
                             nfev=1)
-    monkeypatch.setattr(s1, "root", lambda *a, **k: flank)
+    monkeypatch.setattr(problem, "root", lambda *a, **k: flank)
     bad = pr.equilibrium(delta=good.delta)
     assert not bad.info["converged"]
     assert bad.info["interpenetration"] > 1e-3 and "inadmissible" in bad.info["message"]

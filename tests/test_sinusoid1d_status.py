@@ -1,5 +1,5 @@
 """A status is a promise (issue 19) for the seed's 1D method: every reported state is verified
-before it is reported (sinusoid1d._verdict), each reproducer of the issue is checked against
+before it is reported (oned.branches._verdict), each reproducer of the issue is checked against
 an independent result, and a property test over (ζ, β, Γ, p̃) asserts that a reported status
 is a verified one and that no scalar of a reported state is nan."""
 
@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 import spectralbem as sb
 from spectralbem import reference as ref
 from spectralbem import sinusoid1d as s1
+from spectralbem.oned import api, branches, problem
 from spectralbem.scenes import load_scene
 
 BETA, GAMMA, A0 = 10.0, 0.008, 0.01
@@ -172,8 +173,8 @@ def test_falling_equilibrium_alone_is_unstable(monkeypatch):
     """When the branch cannot settle the outcome (its trace is made to find nothing), the
     falling equilibrium found at p̃ = −0.2 is reported as unstable with its own, finite
     scalars and a negative branch slope — never as partial."""
-    monkeypatch.setattr(s1._Branch, "trace", lambda self, grid: (np.array([]),) * 3)
-    monkeypatch.setattr(s1, "_edge_census", lambda pr, grid: "")
+    monkeypatch.setattr(branches._Branch, "trace", lambda self, grid: (np.array([]),) * 3)
+    monkeypatch.setattr(branches, "_edge_census", lambda pr, grid: "")
     ds = s1.solve(0.1, BETA, GAMMA, p_tilde=-0.2, a0_tilde=A0, adhesiveless_reference=False)
     assert ds.status.item() == "unstable"
     sc = scalars(ds)
@@ -191,7 +192,7 @@ def test_message_agrees_with_status(monkeypatch):
     pr = s1.dimensionless_problem(0.0, BETA, GAMMA, A0)
     fake = SimpleNamespace(x=np.array([0.75, 0.0]), fun=np.array([97.0, 1.0]), nfev=1,
                            message="The solution converged.")
-    monkeypatch.setattr(s1, "root", lambda *a, **k: fake)
+    monkeypatch.setattr(problem, "root", lambda *a, **k: fake)
     st = pr.equilibrium(p_mean=0.15 * pr.p_star())
     assert not st.info["converged"]
     assert st.info["message"].startswith("not converged: edge residuals up to 9.7e+01")
@@ -269,7 +270,7 @@ def test_reported_status_is_verified(zeta, beta, Gamma, p_tilde):
         assert sc["p_tilde"] == pytest.approx(p_tilde, rel=1e-9, abs=1e-12)
         assert 0 < sc["a_tilde"] < np.pi
     elif status == "full_contact":
-        ratio = s1._modulus_ratio(zeta, beta)
+        ratio = api._modulus_ratio(zeta, beta)
         assert p_tilde >= abs(ratio) or number_after(msg, "equilibrium branch, p̃ =") < p_tilde
         x = ds.x_tilde.values
         np.testing.assert_allclose(-ds.sigma_tilde.values,

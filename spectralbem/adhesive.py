@@ -35,7 +35,14 @@ from .criterion import (
     front_tests,
     predictor_tests,
 )
-from .front import at_front, sharp_crack_offset, sub_cell_offset
+from .front import (
+    _touching,
+    at_front,
+    resolved_front,
+    sharp_crack_offset,
+    sub_cell_offset,
+    unresolved_patches,
+)
 from .masked import TRUE_RESIDUAL_MARGIN, solve_masked, solve_packed
 from .spectral import SpectralOperator
 from .surfaces import check_heights
@@ -80,48 +87,6 @@ class AdhesiveResult:
     balanced_fraction: float = float("nan")  # resolved front cells balanced within front_tol
     residual: float = float("nan")  # largest balance residual in position (cells)
     crack_tips: np.ndarray | None = None  # resolved outer front cells not held by contact
-
-
-def patch_labels(mask: np.ndarray, a0: float, spacing):
-    """(labels, resolved per label): 4-connected contact patches (periodic images not
-    merged) and whether each can hold a band of width a0 — some cell of it lies at least a0
-    from the outside (a disc of radius ≥ a0, a strip of half-width ≥ a0); label 0: outside."""
-    from scipy import ndimage
-
-    from .criterion import _wrap_edt
-
-    lab, n = ndimage.label(mask)
-    if n == 0:
-        return lab, np.zeros(1, bool)
-    hmin = min(spacing)
-    d_in, _, _ = _wrap_edt(mask, spacing, int(np.ceil(a0 / hmin)) + 2)
-    deepest = np.asarray(ndimage.maximum(d_in, lab, np.arange(n + 1)))
-    ok = deepest >= a0 * (1 - 1e-9)
-    ok[0] = False
-    return lab, ok
-
-
-def unresolved_patches(mask: np.ndarray, a0: float, spacing) -> int:
-    """Number of contact patches too thin for a band of width a0 (:func:`patch_labels`):
-    the band tests cannot resolve them (reported, excluded from the front outputs)."""
-    lab, ok = patch_labels(mask, a0, spacing)
-    return int(ok.size - 1 - ok[1:].sum())
-
-
-def resolved_front(mask, outer, inner, a0: float, spacing):
-    """(outer, inner) front cells that belong to resolved patches (an outer front cell
-    belongs to each patch it touches; resolved if one of them is)."""
-    lab, ok = patch_labels(mask, a0, spacing)
-    return _touching(mask & ok[lab]) & outer, inner & ok[lab]
-
-
-def _touching(m: np.ndarray) -> np.ndarray:
-    """Cells with a 4-neighbour (periodic) in ``m``."""
-    out = np.zeros_like(m)
-    for ax in (0, 1):
-        for sh in (1, -1):
-            out |= np.roll(m, sh, axis=ax)
-    return out
 
 
 def _neighbour_mean(field_: np.ndarray, where: np.ndarray, at: np.ndarray) -> np.ndarray:
@@ -188,8 +153,8 @@ def _held_offsets(s_out, s_in, outer, held_in):
     return s_out, s_in
 
 
-#: slack of the bound Δγ/β ≤ G ≤ β Δγ on the front-averaged G1, G2 (in Δγ): the averages'
-#: discretisation error is below 0.45 Δγ on the rough cases at 128²
+#: slack of the bound G ≤ β Δγ on the front-averaged G1, G2 (in units of β Δγ): the
+#: averages' discretisation error is below 0.45 Δγ on the rough cases at 128²
 #: (docs/rough_convergence.md)
 RELEASE_SLACK = 0.5
 
@@ -202,12 +167,13 @@ def crack_tips(res_out, held, outer):
 
 def _release_out_of_bounds(op, tests, tip, dgamma) -> str:
     """'' or why the balanced front is no equilibrium: a front-averaged G1 or G2 on the
-    crack-tip edges (resolved outer front cells not next to an edge held by contact) outside
-    Δγ/β ≤ G ≤ β Δγ, β = E∞/E0, with RELEASE_SLACK · Δγ of slack: a steadily moving edge
-    of a viscoelastic solid releases at most the glassy and at least the relaxed factor of
-    Δγ (G = Δγ in an elastic scene).  A 2-cycle that brackets no root (a tensile load
-    beyond the pull-off, where each flip also moves Δ) passes the test in position and
-    ends here."""
+    crack-tip edges (resolved outer front cells not next to an edge held by contact) above
+    (1 + RELEASE_SLACK) β Δγ, β = E∞/E0: an edge moving steadily in a viscoelastic solid
+    releases at most the glassy factor of Δγ (G = Δγ in an elastic scene).  A 2-cycle that
+    brackets no root (a tensile load beyond the pull-off, where each flip also moves Δ)
+    passes the test in position and ends here (G1 = 34 Δγ at β = 10).  There is no lower
+    bound: the work of a band of finite width a0 can release less than Δγ/β, even a
+    negative G (the 1D method: G1 = −0.42 Δγ at β = 10, ζ = 2.15, p̃ = 0.15, ã0 = 0.01)."""
     from .front import release_rates
 
     if not tip.any():
@@ -215,13 +181,13 @@ def _release_out_of_bounds(op, tests, tip, dgamma) -> str:
     _, G1, G2 = release_rates(op, tests, tip, dgamma)
     fo = {"G1": G1, "G2": G2}
     beta = op.material.beta
-    lo, hi = 1.0 / beta - RELEASE_SLACK, beta * (1.0 + RELEASE_SLACK)
+    hi = beta * (1.0 + RELEASE_SLACK)
     dg = float(np.mean(dgamma))
     out = [f"{k} = {fo[k] / dg:.3g} Δγ" for k in ("G1", "G2")
-           if np.isfinite(fo[k]) and not lo <= fo[k] / dg <= hi]
+           if np.isfinite(fo[k]) and fo[k] / dg > hi]
     return (f"no equilibrium: the front-averaged energy release rate {', '.join(out)} on "
-            f"the crack-tip edges lies outside [{lo:.3g}, {hi:.3g}] Δγ (Δγ/β ≤ G ≤ β Δγ, "
-            f"β = {beta:.3g})") if out else ""
+            f"the crack-tip edges exceeds {hi:.3g} Δγ (G ≤ β Δγ, β = {beta:.3g}, with "
+            f"{RELEASE_SLACK:g} β Δγ of slack)") if out else ""
 
 
 def _unverified_pins(mask, stuck, free_in):
@@ -334,6 +300,23 @@ def _check_inputs(cell, penetration, mean_pressure, dgamma, a0, criterion, front
     return dg
 
 
+def _next_correction(c, g, prev):
+    """The next load correction of a balanced mask: the fixed point c = g(c) of the front's
+    correction g (the front's mean pressure minus the mask's), by a secant step through the
+    previous (c, g) of the same mask where g contracts clearly, else by substitution
+    (measured ratios ~0.3 per state: substitution alone takes 6-8 states for LOAD_TOL)."""
+    if prev is None:
+        return g
+    c0, g0 = prev
+    f, f0 = g - c, g0 - c0
+    if f == f0 or f == 0.0:
+        return g
+    step = -f * (c - c0) / (f - f0)
+    # the secant only where g contracts clearly, |r| ≤ ½ for g ≈ a + r c (step/f = 1/(1 − r)
+    # in [2/3, 2]): near a pull-off r → 1 and an extrapolated step would leave the branch
+    return c + step if 2.0 / 3.0 <= step / f <= 2.0 else g
+
+
 class _Oscillation:
     """Detects a front that only flips cells back and forth (exact cycles and drifting ones):
     counts the changes of each cell; a run of iterations that move only cells already
@@ -388,7 +371,8 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     the full contact opens, so it is a physical input there, unlike a0.
 
     ``progress``: None or a callable ``progress(iteration, text)`` called at the start of
-    every outer iteration (the command line's progress bar).
+    every outer iteration and once more, with the same iteration, for the final state (the
+    command line's progress bar).
 
     Status: ``partial`` only when every resolved front cell is balanced within ``front_tol``
     cells (:func:`balance_residual`); ``not_converged`` otherwise (a cycle, an oscillation or
@@ -407,6 +391,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     delta = penetration
     p = np.zeros(cell.shape)
     corr = 0.0  # load control: the front's mean pressure minus the mask's
+    corr_prev = None  # (mask key, corr, new_corr) of the last balanced state (secant)
     osc = _Oscillation(cell.shape)
     opened = np.zeros(cell.shape, bool)  # cells the criterion has opened in this solve
     last_change = np.zeros(cell.shape, bool)
@@ -556,7 +541,10 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
             if it == max_outer:
                 message = f"not converged in {max_outer} outer iterations (load)"
                 break
-            corr = new_corr
+            key = hash(mask.tobytes())
+            c0 = corr_prev[1:] if corr_prev is not None and corr_prev[0] == key else None
+            corr_prev = (key, corr, new_corr)
+            corr = _next_correction(corr, new_corr, c0)
             osc.seen.clear()
             tests = res_out = None  # freed before the next state's solves
             continue
@@ -592,6 +580,9 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     if status == "not_converged" and mean_pressure is not None and mean_pressure < 0:
         message += ("; a tensile load beyond the pull-off has no equilibrium (penetration "
                     "control follows the branch through it)")
+    if progress is not None:  # the final state's line
+        progress(it, f"{status}, {int(mask.sum())} cells in contact"
+                 + (f", balanced {frac:.3f}" if np.isfinite(frac) else ""))
     nun = unresolved_patches(mask, a0, (cell.hx, cell.hy))
     if nun:
         message += f"; {nun} contact patches smaller than a disc of radius a0 (unresolved)"

@@ -1,4 +1,6 @@
-"""Outputs of an adhesive state from its balanced sub-cell front.
+"""The balanced sub-cell front of an adhesive state: its offsets from the mask edge
+(:func:`sub_cell_offset`, :func:`sharp_crack_offset`), its patches (:func:`patch_labels`,
+:func:`resolved_front`) and the outputs integrated over it.
 
 The mask of :func:`spectralbem.adhesive.solve_adhesive` holds the front to the nearest cell
 boundary; the balanced edge of each outer front cell lies ``offset_out`` beyond it (m).  The
@@ -161,3 +163,45 @@ def sharp_crack_offset(F_close, F_open, a0: float):
         u = np.sqrt(0.5 * (m + np.sqrt(np.maximum(m * m - 4.0 * d * d / 3.0, 0.0))))
         s_k = a0 * (1.0 - u) * u / d
     return np.where(fit, s_k, sub_cell_offset(Fc, Fo, a0) + 0.5 * a0)
+
+
+def patch_labels(mask: np.ndarray, a0: float, spacing):
+    """(labels, resolved per label): 4-connected contact patches (periodic images not
+    merged) and whether each can hold a band of width a0 — some cell of it lies at least a0
+    from the outside (a disc of radius ≥ a0, a strip of half-width ≥ a0); label 0: outside."""
+    from scipy import ndimage
+
+    from .criterion import _wrap_edt
+
+    lab, n = ndimage.label(mask)
+    if n == 0:
+        return lab, np.zeros(1, bool)
+    hmin = min(spacing)
+    d_in, _, _ = _wrap_edt(mask, spacing, int(np.ceil(a0 / hmin)) + 2)
+    deepest = np.asarray(ndimage.maximum(d_in, lab, np.arange(n + 1)))
+    ok = deepest >= a0 * (1 - 1e-9)
+    ok[0] = False
+    return lab, ok
+
+
+def unresolved_patches(mask: np.ndarray, a0: float, spacing) -> int:
+    """Number of contact patches too thin for a band of width a0 (:func:`patch_labels`):
+    the band tests cannot resolve them (reported, excluded from the front outputs)."""
+    lab, ok = patch_labels(mask, a0, spacing)
+    return int(ok.size - 1 - ok[1:].sum())
+
+
+def resolved_front(mask, outer, inner, a0: float, spacing):
+    """(outer, inner) front cells that belong to resolved patches (an outer front cell
+    belongs to each patch it touches; resolved if one of them is)."""
+    lab, ok = patch_labels(mask, a0, spacing)
+    return _touching(mask & ok[lab]) & outer, inner & ok[lab]
+
+
+def _touching(m: np.ndarray) -> np.ndarray:
+    """Cells with a 4-neighbour (periodic) in ``m``."""
+    out = np.zeros_like(m)
+    for ax in (0, 1):
+        for sh in (1, -1):
+            out |= np.roll(m, sh, axis=ax)
+    return out

@@ -356,6 +356,18 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
     return ds, mask
 
 
+def _front_progress(bar):
+    """The adhesive front's progress callback on a tqdm bar: the text first, then the count
+    (so that the line shows the current iteration's text; a repeated count refreshes it)."""
+    def show(k: int, text: str) -> None:
+        bar.set_postfix_str(text, refresh=False)
+        if k > bar.n:
+            bar.update(k - bar.n)
+        else:
+            bar.refresh()
+    return show
+
+
 def _smoothing(scene) -> dict:
     """The front-smoothing keywords of solve_adhesive: the scene's, else criterion's
     defaults (the schema's defaults are the same numbers, tested)."""
@@ -450,8 +462,8 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
     for v in it:
         if bar is not None:
             bar.reset()
-        ds, state = _solve_one(scene.at_step(v), state, None if bar is None else (
-            lambda k, text: (bar.update(1), bar.set_postfix_str(text, refresh=False))))
+        ds, state = _solve_one(scene.at_step(v), state,
+                               None if bar is None else _front_progress(bar))
         out.append(ds)
     if bar is not None:
         bar.close()

@@ -87,3 +87,23 @@ def test_linear_stress_intensity_removes_most_of_the_second_order_edge_error():
             errs.append(e_k)
         assert 3.0 < errs[1] / errs[0] < 5.0 and 3.0 < errs[2] / errs[1] < 5.0  # second order
         assert abs(errs[1]) < 7.5e-3  # a0 = a/10: area within 0.75 % (measured 0.69 %)
+
+
+@given(a=st.floats(-1.0, 1.0), r=st.floats(-0.5, 0.5), c0=st.floats(-1.0, 1.0))
+def test_load_correction_secant_lands_on_the_fixed_point_of_a_linear_map(a, r, c0):
+    """The load correction of a balanced mask, c = g(c): substitution first, then a secant
+    step through the previous pair, exact for a clear linear contraction g(c) = a + r c
+    (|r| ≤ ½); a slow one (r near 1, as near a pull-off) keeps substitution."""
+    from spectralbem.adhesive import _next_correction
+
+    def g(c):
+        return a + r * c
+
+    c1 = _next_correction(c0, g(c0), None)
+    assert c1 == g(c0)
+    c2 = _next_correction(c1, g(c1), (c0, g(c0)))
+    assert c2 == pytest.approx(a / (1 - r), abs=1e-9)
+    slow = 0.95
+    d1 = _next_correction(c0, a + slow * c0, None)
+    if d1 != c0:
+        assert _next_correction(d1, a + slow * d1, (c0, a + slow * c0)) == a + slow * d1

@@ -121,24 +121,32 @@ def _offsets(F_close, F_open, outer, inner, a0, sharp=False):
     return s_out, s_in
 
 
-def _moves(tests, mask, s_out, s_in, w, pinned, hmin):
+def _moves(tests, mask, s_out, s_in, w, pinned, hmin, wide=None, tol=0.0):
     """The cells that join (add) and leave (remove) the mask: the mask follows the balanced
     front to the nearest cell centre, with no dead band.  A band cell at distance d from the
     front (d = h for the first layer) joins when its front cell's balanced edge lies beyond
     its centre, s > d − h/2; a cell of the inner band leaves when s < −(d − h/2).  A cell
     opens only where its opening leaves a gap (no interpenetration): otherwise the
-    nucleation step would close it again at once (an open/close cycle)."""
+    nucleation step would close it again at once (an open/close cycle).  ``wide``: cells
+    that move only when their front cell is unbalanced (beyond the acceptance band, ``tol``
+    cells more: the rescue of an oscillating front, :func:`solve_adhesive`)."""
     b = tests.bands
     half = 0.5 * hmin
+    more = 0.0 if wide is None else np.where(wide.ravel(), tol * hmin, 0.0)
     ob = np.flatnonzero(b.outer_band)  # band cells, each with its owning front cell
     add = np.zeros(mask.shape, bool)
     add.ravel()[ob] = (s_out.ravel()[b.outer_owner.ravel()[ob]]
-                       > b.outer_dist.ravel()[ob] - half)
+                       > b.outer_dist.ravel()[ob] - half + _at(more, ob))
     ib = np.flatnonzero(b.inner_band & ~pinned & ~_blocked(tests, w))
     remove = np.zeros(mask.shape, bool)
     remove.ravel()[ib] = (s_in.ravel()[b.inner_owner.ravel()[ib]]
-                          < -(b.inner_dist.ravel()[ib] - half))
+                          < -(b.inner_dist.ravel()[ib] - half + _at(more, ib)))
     return add, remove
+
+
+def _at(values, idx):
+    """values[idx] of an array, or the scalar itself."""
+    return values[idx] if np.ndim(values) else values
 
 
 def _held_offsets(s_out, s_in, outer, held_in):
@@ -393,6 +401,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     corr = 0.0  # load control: the front's mean pressure minus the mask's
     corr_prev = None  # (mask key, corr, new_corr) of the last balanced state (secant)
     osc = _Oscillation(cell.shape)
+    wide = None  # the oscillating cells of a rescued front (moved only when unbalanced)
     opened = np.zeros(cell.shape, bool)  # cells the criterion has opened in this solve
     last_change = np.zeros(cell.shape, bool)
     flaw_tried = False
@@ -495,7 +504,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
         # (_unverified_pins)
         stuck = pinned & ~blocked & inner & (s_in == -np.inf)
         s_out, s_in = _held_offsets(s_out, s_in, outer, inner & held)
-        add, remove = _moves(tests, mask, s_out, s_in, w, pinned, hmin)
+        add, remove = _moves(tests, mask, s_out, s_in, w, pinned, hmin, wide, front_tol)
         res_out, res_in = resolved_front(mask, outer, inner, a0, (cell.hx, cell.hy))
         bracket = _bracketed(tests, add, remove, last_change)
         # a bracketed edge lies inside its flipping cell: at that cell's centre ± h/2
@@ -549,6 +558,14 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
             tests = res_out = None  # freed before the next state's solves
             continue
         reason = osc.step(mask, add | remove)
+        if reason and wide is None and it < max_outer:
+            # rescue, once: the cells that oscillate move from now on only when their front
+            # cell is unbalanced (beyond the acceptance band), so a front that oscillates
+            # inside it settles; the status rule is unchanged (every cell balanced)
+            wide = osc.flips >= min(OSCILLATION_FLIPS, max(1, int(osc.flips.max())))
+            osc = _Oscillation(cell.shape)
+            add, remove = _moves(tests, mask, s_out, s_in, w, pinned, hmin, wide, front_tol)
+            reason = osc.step(mask, add | remove) if (add.any() or remove.any()) else ""
         if reason or it == max_outer:
             reason = reason or f"not converged in {max_outer} outer iterations"
             message = (f"{reason}; {100 * frac:.1f} % of the resolved front balanced within "

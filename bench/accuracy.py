@@ -1,4 +1,4 @@
-"""The accuracy-cost map (issue 6, item 4): error against wall time of the 2D adhesive solver.
+"""The accuracy-cost map: error against wall time of the 2D adhesive solver.
 
 Two scenes with independent references:
 
@@ -11,7 +11,7 @@ Two scenes with independent references:
   the Krylov tolerance.
 
 and the front criterion: exact layer tests (every front layer tested by a masked solve),
-the zero-solve predictor of criterion.md §4.3 alone ('predictor': the exact tests only
+the zero-solve predictor alone (docs/theory.md) ('predictor': the exact tests only
 evaluate the outputs of its final mask) or the predictor then exact tests ('hybrid').
 One thread, wall seconds of the solve (operator construction and FFT planning excluded).
 Writes bench/accuracy.json, docs/figures/accuracy_cost.png and the accuracy table of

@@ -1,4 +1,4 @@
-"""Benchmark of issue 6 item 5: the non-symmetric masked solves against β and ζ.
+"""Benchmark of the non-symmetric masked solves against β and ζ.
 
 One masked solve (seed Eq. (15) on a fixed contact mask: the pressure that imposes the
 indenter's profile) for a steady-sliding standard linear solid, E0 = 1, E∞ = β, τ = 1, on two

@@ -1,4 +1,4 @@
-"""Benchmark of issue 6 item 3: scaling with the grid size N² (64² to 2048²).
+"""Benchmark of the scaling with the grid size N² (64² to 2048²).
 
 * Elastic adhesiveless rough contact (the surface of bench/run.py, p = 0.004 E*, tol 1e-10):
   time per iteration, iterations, FFT pairs per iteration and the time of one planned FFTW

@@ -1,4 +1,4 @@
-"""Benchmark of issue 4: the 2D adhesive viscoelastic sphere at 512² and one load.
+"""Benchmark of the 2D adhesive viscoelastic sphere at 512² and one load.
 
 Elastic-unit scene: L = R = E0 = 1 (ν = 0), β = E∞/E0 = 10, τ = 1, sliding speed v = 0.1 a_J
 so that ζ = vτ/a = 0.1 on the JKR zero-load radius a_J = 0.1 L, Δγ chosen for that radius

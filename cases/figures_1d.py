@@ -2,7 +2,7 @@
 
 Run by ``make figures``; writes PNGs to docs/figures/ (and the curve data to
 docs/figures/oned_curves.nc).  Every figure states the advance width a0 (k a0 = ã0) of the
-edge energy balance; the seed does not state its own (physics.md §0.2 item 4), so the curves
+edge energy balance; the seed does not state its own, so the curves
 are comparable to the paper's qualitatively.  Curves run in parallel (one process per core).
 
 Usage: python cases/figures_1d.py [--quick] [--only 3 6 ...]

@@ -1,5 +1,5 @@
 """Where the toughness and the adhesive strength peak in ζ, against the advance width a0
-(claim 8 of physics.md §8; table for docs/oned.md).
+(the seed's claim on the maxima against a0; table for docs/oned.md).
 
 β = 10, Γ = 0.008: T̃ (Eq. 24) and |p̃_out| (the fixed-Δ pull-off) from
 ``sinusoid1d.special_points`` (n = 16, cheb = 8) for ã0 = 1e-2 … 1e-5 and the strict limit

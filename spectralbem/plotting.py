@@ -333,18 +333,20 @@ def _distributions(fig, gs, ds, p_in, x, y):
 
 
 def plot_profile_1d(ds, path=None):
-    """1D state (seed method): stress σ/p* and displacement u/Λ on the contact."""
+    """1D state (seed method): pressure p/p* = −σ/p* (compressive positive, as the 2D maps)
+    and displacement u/Λ on the contact; the indenter slides along +x."""
     fig, axes = plt.subplots(1, 2, figsize=(9, 3.6), constrained_layout=True)
     x = ds["x_tilde"].values
-    axes[0].plot(x, ds["sigma_tilde"].values, "C3-")
-    axes[0].set_xlabel("k x")
-    axes[0].set_ylabel("σ/p*")
+    axes[0].plot(x, -ds["sigma_tilde"].values, "C3-")
+    axes[0].axhline(0.0, color="0.5", lw=0.8)
+    axes[0].set_xlabel("k x (sliding along +x)")
+    axes[0].set_ylabel("p/p* (compressive +)")
     axes[0].set_title(f"{ds.attrs.get('model', '')}: status {ds['status'].item()}, "
                       f"ã = {float(ds['a_tilde']):.4g}")
     axes[1].plot(x, ds["u_tilde"].values, "C0-")
-    axes[1].set_xlabel("k x")
+    axes[1].set_xlabel("k x (sliding along +x)")
     axes[1].set_ylabel("u/Λ")
-    axes[1].set_title(f"ẽ = {float(ds['e_tilde']):.4g}, μ/Λ̃ = {float(ds['mu_bar']):.4g}")
+    axes[1].set_title(f"ẽ = {float(ds['e_tilde']):.4g}, μ̄ = {float(ds['mu_bar']):.4g}")
     for ax in axes:
         ax.grid(alpha=0.3)
     if path is not None:

@@ -288,7 +288,7 @@ def test_predictor_is_modified_vcct_on_a_straight_front():
     """criterion.predictor_tests with one layer on a straight front (y-invariant band, normal
     ±x): the closing balance of an outer front cell is −½ a g_j p_i/(Δγ a) − 1 with i its
     inner x-neighbour, and the opening balance of an inner front cell is −½ a g_j p_i with j
-    its outer x-neighbour (criterion.md §4.3) — exact up to rounding, the values being uniform
+    its outer x-neighbour (docs/derivations.md §10) — exact up to rounding, the values being uniform
     along the front (the smoothing along it changes nothing)."""
     from spectralbem.criterion import predictor_tests
     from spectralbem.masked import solve_masked

@@ -1,4 +1,4 @@
-"""Bad-input catalogue (issue 7): the Python API and the command line reject each input before
+"""Bad-input catalogue: the Python API and the command line reject each input before
 any heavy work, with an error naming the parameter, its value and the allowed range.  The
 scene-file part of the catalogue is ``tests/test_scenes.py::MALFORMED`` (46 entries)."""
 

@@ -61,7 +61,7 @@ def test_hertz_periodic():
     assert a / cell.hx >= 50
     # acceptance 1 %: the pixelated area has an O((h/a)^1.5) perimeter error, ~0.3 % here
     assert a == pytest.approx(ref.hertz_radius(P, R, Es), rel=1e-2)
-    # summit penetration with the periodic correction of physics.md §3.4; the remaining
+    # summit penetration with the periodic correction of docs/derivations.md §6; the remaining
     # O((a/L)²) ~ 1e-2 relative correction bounds the tolerance
     d = ref.hertz_penetration(P, R, Es) - ref.PERIODIC_LATTICE_CONSTANT * P / (Es * 1.0)
     assert res.penetration == pytest.approx(d, rel=5e-3)
@@ -82,7 +82,7 @@ def test_viscoelastic_limits_are_elastic(zeta, modulus):
     assert visco.penetration == pytest.approx(elast.penetration, rel=1e-6)
 
 
-# physics.md §4.3 reference table (independent solver, 2048 cells, ±1e-3 in ã, ẽ, 4-5 digits μ)
+# reference table of an independent Fourier-series solver ( 2048 cells, ±1e-3 in ã, ẽ, 4-5 digits μ)
 TABLE = [(0.1, 0.7497, 0.0445, 0.07807), (1.0, 0.4068, 0.2681, 0.34400),
          (10.0, 0.2472, 0.0572, 0.06297)]
 
@@ -121,7 +121,7 @@ def test_oblique_sliding_equals_1d_at_zeta_cos_phi(phi_deg):
     one = solve_contact(sliding(0.8 * np.cos(phi), cell), h, mean_pressure=0.15 * PSTAR,
                         tol=1e-12)
     np.testing.assert_allclose(obl.pressure, one.pressure, atol=1e-9 * one.pressure.max())
-    # physics.md §3.5: force along x; friction F_x cos φ along v, lateral F_x sin φ
+    # the kernel depends on q·v only: force along x; friction F_x cos φ along v, lateral F_x sin φ
     assert obl.mu == pytest.approx(one.mu * np.cos(phi), rel=1e-8)
     assert obl.mu_lateral == pytest.approx(-one.mu * np.sin(phi), rel=1e-8)
 

@@ -1,4 +1,4 @@
-"""Extremes suite (issue 7), small grids: every case converges to a physically checked answer
+"""Extremes suite, small grids: every case converges to a physically checked answer
 or returns a clear non-converged / detached / full-contact status; never NaN or inf in a
 converged state, never a hang (each solve is bounded by its iteration guard)."""
 

@@ -1,4 +1,4 @@
-"""Property-based fuzz of the shipped scenes (issue 19, Deliver 5).
+"""Property-based fuzz of the shipped scenes.
 
 Hypothesis mutates the cases under ``cases/*.toml``, shrunk to tiny grids, by key and by the
 type of the value (out-of-range numbers, wrong types, strings with units, huge and tiny

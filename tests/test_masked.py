@@ -66,7 +66,7 @@ def test_preconditioner_cuts_iterations():
     plain = solve_masked(op, MASK, SURF, rtol=1e-8, precondition=False, maxiter=20000)
     prec = solve_masked(op, MASK, SURF, rtol=1e-8, precondition=True)
     assert plain.converged and prec.converged
-    assert prec.iterations < plain.iterations / 2  # criterion.md §3.3 measured 4-24x
+    assert prec.iterations < plain.iterations / 2  # measured 4-24x
 
 
 def test_warm_start_and_guard():

@@ -1,4 +1,4 @@
-"""Materials: E(ω) in the seed's Fourier convention (physics.md §0.1, §4.1)."""
+"""Materials: E(ω) in the seed's Fourier convention (docs/theory.md, units and signs)."""
 
 import numpy as np
 import pytest
@@ -46,11 +46,11 @@ def test_sls_tan_delta_peak_physics_md():
     tand = -E.imag / E.real
     i = np.argmax(tand)
     assert w[i] == pytest.approx(np.sqrt(10.0), rel=1e-3)  # grid spacing 6e-5 in log ω
-    assert tand[i] == pytest.approx(1.42302, abs=1e-5)  # physics.md quotes 6 digits
+    assert tand[i] == pytest.approx(1.42302, abs=1e-5)  # the closed form to 6 digits
 
 
 def test_kramers_kronig_sum_rule():
-    """(2/π) ∫₀^∞ Im(1/E(ω))/ω dω = 1/E0 - 1/E∞ (physics.md §4.1)."""
+    """(2/π) ∫₀^∞ Im(1/E(ω))/ω dω = 1/E0 - 1/E∞ (a Kramers–Kronig identity of a causal modulus)."""
     val = quad(lambda lw: np.imag(SLS.compliance(np.exp(lw))), -40, 40, limit=400)[0]
     assert 2 / np.pi * val == pytest.approx(1 / SLS.E0 - 1 / SLS.Einf, rel=1e-8)
 

@@ -193,7 +193,7 @@ def test_load_path_jkr_sphere():
     """JKR sphere along a load/unload path (the mask carried from step to step): contact
     radius against JKR at every step within 1.5 cells (128², a ≈ 11 cells: the staircase
     front and lattice trapping are of order one cell; the periodic images change a by < 1 %
-    at a/L < 0.1, physics.md §3.4)."""
+    at a/L < 0.1, docs/derivations.md §6)."""
     R, E, w, L, n = 1e-3, 1e6, 0.05, 1e-3, 128
     raw = {"grid": {"Lx": L, "Ly": L, "Nx": n, "Ny": n},
            "surface": {"kind": "paraboloid", "radius": R},

@@ -1,4 +1,4 @@
-"""The seed's qualitative claims (physics.md §8, items 1-9) for β = 10, Γ = 0.008 at
+"""The seed's qualitative claims (items 1-9 below) for β = 10, Γ = 0.008 at
 ã0 = k a0 = 1e-2, each asserted on ζ sweeps of the 1D method."""
 
 import numpy as np
@@ -173,7 +173,7 @@ def test_8_location_holds_at_small_a0():
 @pytest.mark.xdist_group("special_points")
 def test_9_snap_in_pressure_against_speed(special):
     """The load of the jump to full contact falls with ζ at low ζ and rises at high ζ toward
-    the E∞ value (physics.md §8 item 9: 0.591 and 8.35 at a0 = 0; here ã0 = 0.01)."""
+    the E∞ value (item 9: 0.591 and 8.35 at a0 = 0; here ã0 = 0.01)."""
     pmax = np.array([sp["p_max"] for sp in special])
     assert np.all(np.isfinite(pmax))
     low, high = pmax[:3], pmax[4:]  # ζ = 0, 1e-2, 0.1 and ζ = 1, 10, inf

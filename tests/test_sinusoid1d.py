@@ -1,5 +1,6 @@
 """The seed's 1D method (Section 3) against Westergaard, Johnson (1995), the viscoelastic
-closed forms and the energy identities; the seed's qualitative claims (physics.md §8)."""
+closed forms and the energy identities (the seed's qualitative claims:
+tests/test_seed_claims.py)."""
 
 import numpy as np
 import pytest
@@ -101,7 +102,7 @@ def test_special_points_elastic_limits(zeta, beta_eff):
     rj = ref.johnson_special_points(GAMMA, beta_eff)
     for key in ("p_min", "a_pmin", "p_max", "a_pmax", "a0", "delta_min", "p_dmin", "T"):
         assert sp[key] == pytest.approx(rj[key], rel=1e-3), key  # acceptance: 1e-3
-    # and the physics.md §2.5/2.6 tabulated values
+    # and the closed forms' values tabulated independently to 6 digits
     table = {0.0: (-0.047881, 0.591038, 0.06566), np.inf: (-0.102716, 8.354, 0.03382)}[zeta]
     assert sp["p_min"] == pytest.approx(table[0], rel=1e-3)
     assert sp["p_max"] == pytest.approx(table[1], rel=1e-3)
@@ -152,7 +153,7 @@ def test_energy_identities(visco_state):
 
 
 def test_friction_energy_balance(visco_state):
-    """μ (Eq. 19) = bulk dissipation (physics.md §4.2) + the sharp-tip energy exchange
+    """μ (Eq. 19) = bulk dissipation (docs/derivations.md §5) + the sharp-tip energy exchange
     (K1² - K2²)/(2E∞* λ p∞), which vanishes in the strict limit a0 = 0 and without adhesion."""
     pr, st = visco_state
     K1, K2 = st.K
@@ -164,7 +165,7 @@ def test_friction_energy_balance(visco_state):
     assert plain.friction(s0) == pytest.approx(plain.friction_dissipation(s0, 20000), rel=1e-6)
 
 
-# physics.md §4.3 (independent solver, ±1e-3 in ã and ẽ, 4-5 digits in μ)
+# an independent Fourier-series solver of the same problem (±1e-3 in ã and ẽ, 4-5 digits in μ)
 @pytest.mark.parametrize("zeta, a_ref, e_ref, mu_ref", [(0.1, 0.7497, 0.0445, 0.07807),
                                                         (1.0, 0.4068, 0.2681, 0.34400),
                                                         (10.0, 0.2472, 0.0572, 0.06297)])

@@ -1,4 +1,4 @@
-"""A status is a promise (issue 19) for the seed's 1D method: every reported state is verified
+"""A status is a promise for the seed's 1D method: every reported state is verified
 before it is reported (oned.branches._verdict), each reproducer of the issue is checked against
 an independent result, and a property test over (ζ, β, Γ, p̃) asserts that a reported status
 is a verified one and that no scalar of a reported state is nan."""
@@ -43,7 +43,7 @@ def test_tiny_gamma_is_not_reported_as_full_contact():
     assert ds.status.item() == "not_converged"
     assert "advance width" in ds.attrs["solver_message"]
     a, e = ds.a_tilde_adhesiveless.item(), ds.e_tilde_adhesiveless.item()
-    assert a == pytest.approx(0.7496, abs=1e-3)  # physics.md §4.3 table
+    assert a == pytest.approx(0.7496, abs=1e-3)  # the independent solver's value
     pr = s1.dimensionless_problem(0.1, BETA, 1e-9, A0)
     pair = pr.pair_at(a, e)
     for side in (1, 2):

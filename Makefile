@@ -48,6 +48,7 @@ bench: $(STAMP)
 
 figures: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python cases/figures_1d.py
+	MPLBACKEND=Agg $(BIN)/python cases/example_figures.py
 
 docs: $(STAMP)
 	$(BIN)/python docs/generate_reference.py

@@ -36,8 +36,10 @@ from .criterion import (
     predictor_tests,
 )
 from .front import (
+    _bracketed,
     _touching,
     at_front,
+    balance_residual,
     resolved_front,
     sharp_crack_offset,
     sub_cell_offset,
@@ -237,31 +239,6 @@ def _predictor_moves(tests, mask, outer, w, pinned, hmin):
     return add, remove
 
 
-def balance_residual(s_out, s_in, res_out, res_in, free_in, hmin):
-    """Residual of the balance in position, in cells, on the resolved front cells: how far
-    the balanced edge lies beyond the half cell the mask edge stands for,
-    max(0, |s| − h/2)/h (outward on outer cells, inward on inner cells that may open:
-    ``free_in``).  Returns (max residual, the residuals of the tested front cells)."""
-    r_out = np.maximum(0.0, s_out[res_out] - 0.5 * hmin) / hmin
-    r_in = np.maximum(0.0, -s_in[res_in & free_in] - 0.5 * hmin) / hmin
-    r = np.concatenate([r_out, r_in])
-    r = np.where(np.isnan(r), np.inf, r)  # an untested front cell is not balanced
-    return (float(r.max()) if r.size else 0.0), r
-
-
-def _bracketed(tests, add, remove, last_change):
-    """Front cells whose band cells flip back this iteration (a 2-cycle: one state closes the
-    cell, the next opens it): their balanced edge lies inside the flipping cell, so its
-    position is that cell's centre to ± h/2 (residual 0 by :func:`balance_residual`)."""
-    b = tests.bands
-    out = np.zeros(add.shape, bool)
-    back_add = np.flatnonzero(add & last_change)
-    back_rem = np.flatnonzero(remove & last_change)
-    out.ravel()[b.outer_owner.ravel()[back_add]] = True
-    out.ravel()[b.inner_owner.ravel()[back_rem]] = True
-    return out
-
-
 def _nucleation_flaw(op, h, mean_pressure, penetration, a0):
     """The documented rule for leaving full contact: a flaw, the disc of radius a0 centred on
     the cell of largest tension of the full-contact solution (at the prescribed load; under
@@ -383,7 +360,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     command line's progress bar).
 
     Status: ``partial`` only when every resolved front cell is balanced within ``front_tol``
-    cells (:func:`balance_residual`); ``not_converged`` otherwise (a cycle, an oscillation or
+    cells (front.balance_residual); ``not_converged`` otherwise (a cycle, an oscillation or
     the iteration limit), with the balanced fraction of the front in the result.
     """
     cell = op.cell

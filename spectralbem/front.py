@@ -1,6 +1,7 @@
 """The balanced sub-cell front of an adhesive state: its offsets from the mask edge
 (:func:`sub_cell_offset`, :func:`sharp_crack_offset`), its patches (:func:`patch_labels`,
-:func:`resolved_front`) and the outputs integrated over it.
+:func:`resolved_front`), the residual of its balance (:func:`balance_residual`) and the
+outputs integrated over it.
 
 The mask of :func:`spectralbem.adhesive.solve_adhesive` holds the front to the nearest cell
 boundary; the balanced edge of each outer front cell lies ``offset_out`` beyond it (m).  The
@@ -204,4 +205,29 @@ def _touching(m: np.ndarray) -> np.ndarray:
     for ax in (0, 1):
         for sh in (1, -1):
             out |= np.roll(m, sh, axis=ax)
+    return out
+
+
+def balance_residual(s_out, s_in, res_out, res_in, free_in, hmin):
+    """Residual of the balance in position, in cells, on the resolved front cells: how far
+    the balanced edge lies beyond the half cell the mask edge stands for,
+    max(0, |s| − h/2)/h (outward on outer cells, inward on inner cells that may open:
+    ``free_in``).  Returns (max residual, the residuals of the tested front cells)."""
+    r_out = np.maximum(0.0, s_out[res_out] - 0.5 * hmin) / hmin
+    r_in = np.maximum(0.0, -s_in[res_in & free_in] - 0.5 * hmin) / hmin
+    r = np.concatenate([r_out, r_in])
+    r = np.where(np.isnan(r), np.inf, r)  # an untested front cell is not balanced
+    return (float(r.max()) if r.size else 0.0), r
+
+
+def _bracketed(tests, add, remove, last_change):
+    """Front cells whose band cells flip back this iteration (a 2-cycle: one state closes the
+    cell, the next opens it): their balanced edge lies inside the flipping cell, so its
+    position is that cell's centre to ± h/2 (residual 0 by :func:`balance_residual`)."""
+    b = tests.bands
+    out = np.zeros(add.shape, bool)
+    back_add = np.flatnonzero(add & last_change)
+    back_rem = np.flatnonzero(remove & last_change)
+    out.ravel()[b.outer_owner.ravel()[back_add]] = True
+    out.ravel()[b.inner_owner.ravel()[back_rem]] = True
     return out

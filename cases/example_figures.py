@@ -1,0 +1,78 @@
+"""One small example of each kind of figure `spectralbem plot` draws, in docs/figures/.
+
+Run by ``make figures`` (about a minute on 2 cores); each figure is what
+``spectralbem plot result.nc`` draws for that kind of dataset:
+
+* example_state_rough.png — a viscoelastic rough state (cases/rubber_rough.toml at 128²);
+* example_state_adhesive.png — an adhesive state with its front coloured by G/Δγ
+  (cases/jkr_sphere.toml at 128², zero load);
+* example_path.png — a load/unload path with adhesion hysteresis
+  (cases/rough_load_unload.toml at 128²);
+* example_sweep.png — μ and the contact area against the sliding speed
+  (cases/rubber_rough.toml at 64², 9 speeds, the local dask cluster);
+* example_profile_1d.png — the seed's 1D method (cases/seed_sinusoid_1d.toml).
+
+Usage: python cases/example_figures.py [--only state_rough path ...]
+"""
+
+from __future__ import annotations
+
+import argparse
+import tempfile
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import numpy as np  # noqa: E402
+
+import spectralbem as sb  # noqa: E402
+from spectralbem.plotting import plot_dataset  # noqa: E402
+from spectralbem.scenes import load_scene  # noqa: E402
+
+CASES = Path(__file__).resolve().parent
+OUT = CASES.parent / "docs" / "figures"
+
+
+def _scene(name: str, **overrides):
+    return load_scene(CASES / f"{name}.toml", overrides=overrides)
+
+
+def _sweep():
+    from spectralbem.sweep import run_sweep
+
+    with tempfile.TemporaryDirectory() as tmp:
+        path = run_sweep(CASES / "rubber_rough.toml", [("motion.speed", np.logspace(-5, 0, 9))],
+                         Path(tmp) / "sweep.nc", overrides={"grid.Nx": 64, "grid.Ny": 64},
+                         workers=2, progress=False)
+        import xarray as xr
+
+        with xr.open_dataset(path) as ds:
+            return ds.load()
+
+
+FIGURES = {
+    "state_rough": lambda: sb.solve(_scene("rubber_rough", **{"grid.Nx": 128,
+                                                              "grid.Ny": 128})),
+    "state_adhesive": lambda: sb.solve(_scene("jkr_sphere", **{
+        "grid.Nx": 128, "grid.Ny": 128, "control.mean_pressure": 0.0})),
+    "path": lambda: sb.solve(_scene("rough_load_unload", **{"grid.Nx": 128, "grid.Ny": 128})),
+    "sweep": _sweep,
+    "profile_1d": lambda: sb.solve(_scene("seed_sinusoid_1d")),
+}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--only", nargs="+", choices=sorted(FIGURES), default=sorted(FIGURES))
+    args = ap.parse_args(argv)
+    for name in args.only:
+        ds = FIGURES[name]()
+        path = OUT / f"example_{name}.png"
+        fig = plot_dataset(ds, path)
+        matplotlib.pyplot.close(fig)
+        print(f"{path.relative_to(CASES.parent)}", flush=True)
+
+
+if __name__ == "__main__":
+    main()

@@ -35,9 +35,9 @@ from .spectral import SpectralOperator
 _CROSS = ndimage.generate_binary_structure(2, 1)
 
 
-#: σ (cells) of the average of the balance along the front: a lattice length, chosen by
-#: measured accuracy (docs/theory.md: 6 kept a small disc a diamond, −7 % radius at 12.8 cells)
-FRONT_SMOOTHING = 3.0
+#: σ (cells) of the average of the balance along the front: a lattice length (docs/theory.md:
+#: 3 is more accurate on small patches but left the 512² viscoelastic rough state unconverged)
+FRONT_SMOOTHING = 6.0
 
 #: σ grows with the contact patch: σ = max(FRONT_SMOOTHING, SMOOTHING_PER_RADIUS · r) for a
 #: patch of front radius r = min(2 area/perimeter, perimeter/2π) (cells; a disc's radius).
@@ -47,7 +47,7 @@ FRONT_SMOOTHING = 3.0
 #: With the equivalent radius √(area/π) instead of 2A/P, the percolating patch of a 256²
 #: rough contact at 45 % area got σ = 22 cells, a lattice cycle and 8 % less area; without
 #: the P/2π bound a y-invariant strip got σ in the hundreds (same result, 3× the time).
-#: Patches under 13 cells of front radius keep σ = 3.  0 switches the growth off.
+#: Patches under 26 cells of front radius keep σ = 6.  0 switches the growth off.
 SMOOTHING_PER_RADIUS = 0.23
 
 #: average along the front graph (True) or with a grid Gaussian restricted to front cells

@@ -196,7 +196,7 @@ SECTIONS = {
         "threads": _k("integer", "FFT threads", "", 1, 256, default=1),
         "front_smoothing": _k("number", "σ of the Gaussian average of the energy balance "
                               "along the front (adhesive scenes; more for fine meshes of "
-                              "smooth fronts)", "cells", 0, 100, default=3.0),
+                              "smooth fronts)", "cells", 0, 100, default=6.0),
         "smoothing_per_radius": _k("number", "σ grows to this fraction of the front "
                                    "radius 2A/P of large contact patches (0: σ fixed)", "", 0, 1,
                                    default=0.23),

@@ -5,7 +5,7 @@ Run by ``make figures`` (about a minute on 2 cores); each figure is what
 
 * example_state_rough.png — a viscoelastic rough state (cases/rubber_rough.toml at 128²);
 * example_state_adhesive.png — an adhesive state with its front coloured by G/Δγ
-  (cases/jkr_sphere.toml at 128², zero load);
+  (cases/jkr_sphere.toml, 256², zero load);
 * example_path.png — a load/unload path with adhesion hysteresis
   (cases/rough_load_unload.toml at 128²);
 * example_sweep.png — μ and the contact area against the sliding speed
@@ -54,8 +54,7 @@ def _sweep():
 FIGURES = {
     "state_rough": lambda: sb.solve(_scene("rubber_rough", **{"grid.Nx": 128,
                                                               "grid.Ny": 128})),
-    "state_adhesive": lambda: sb.solve(_scene("jkr_sphere", **{
-        "grid.Nx": 128, "grid.Ny": 128, "control.mean_pressure": 0.0})),
+    "state_adhesive": lambda: sb.solve(_scene("jkr_sphere", **{"control.mean_pressure": 0.0})),
     "path": lambda: sb.solve(_scene("rough_load_unload", **{"grid.Nx": 128, "grid.Ny": 128})),
     "sweep": _sweep,
     "profile_1d": lambda: sb.solve(_scene("seed_sinusoid_1d")),

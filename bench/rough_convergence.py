@@ -93,7 +93,7 @@ def richardson(values: list) -> tuple:
     if d2 == 0 or d1 == 0 or d1 * d2 < 0:
         return float("nan"), float("nan"), [float("nan")] * len(values)
     p = float(np.log2(abs(d1 / d2)))
-    if p <= 0:
+    if p <= 0.5:  # no asymptotic range: an extrapolation would be meaningless
         return p, float("nan"), [float("nan")] * len(values)
     finf = f3 + d2 / (2**p - 1)
     return p, finf, [abs(v - finf) / max(abs(finf), 1e-300) for v in values]
@@ -106,7 +106,8 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "script. One physical surface at every N (see docs/user_guide.md, surfaces); a0 "
              "fixed in metres; loading 1e4 Pa, then 3e4 Pa, then unloading to 1e4 Pa.", "",
              "How to read it: the error columns are Richardson estimates from the three "
-             "finest grids of a table (nan where the differences do not shrink monotonically). "
+             "finest grids of a table (nan where the differences do not shrink monotonically, "
+             "or shrink slower than order ½: no asymptotic range yet). "
              "They measure the grid error at the stated a0 only. In an elastic scene a0 is "
              "numerical and the answer also moves with a0 while a0 is not small against the "
              "contact patches (compare the tables of two a0 at the same N); in a viscoelastic "

@@ -36,13 +36,13 @@ from .criterion import (
     predictor_tests,
 )
 from .front import (
-    _bracketed,
-    _touching,
     at_front,
     balance_residual,
+    bracketed,
     resolved_front,
     sharp_crack_offset,
     sub_cell_offset,
+    touching,
     unresolved_patches,
 )
 from .masked import TRUE_RESIDUAL_MARGIN, solve_masked, solve_packed
@@ -159,7 +159,7 @@ def _held_offsets(s_out, s_in, outer, held_in):
     edge stays at the mask edge, as in an adhesiveless contact: s ≥ 0 on those inner cells
     and on the outer cells next to them (an outward balance still counts)."""
     s_in = np.where(held_in, np.maximum(s_in, 0.0), s_in)
-    s_out = np.where(outer & _touching(held_in), np.maximum(s_out, 0.0), s_out)
+    s_out = np.where(outer & touching(held_in), np.maximum(s_out, 0.0), s_out)
     return s_out, s_in
 
 
@@ -172,7 +172,7 @@ RELEASE_SLACK = 0.5
 def crack_tips(res_out, held, outer):
     """The resolved outer front cells that are crack tips: not next to an inner front cell
     held by contact (a compressive, adhesiveless edge has no stress singularity)."""
-    return res_out & ~_touching(held & ~outer)
+    return res_out & ~touching(held & ~outer)
 
 
 def _release_out_of_bounds(op, tests, tip, dgamma) -> str:
@@ -483,7 +483,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
         s_out, s_in = _held_offsets(s_out, s_in, outer, inner & held)
         add, remove = _moves(tests, mask, s_out, s_in, w, pinned, hmin, wide, front_tol)
         res_out, res_in = resolved_front(mask, outer, inner, a0, (cell.hx, cell.hy))
-        bracket = _bracketed(tests, add, remove, last_change)
+        bracket = bracketed(tests, add, remove, last_change)
         # a bracketed edge lies inside its flipping cell: at that cell's centre ± h/2
         s_out = np.where(bracket, np.clip(s_out, -0.5 * hmin, 0.5 * hmin), s_out)
         s_in = np.where(bracket, np.clip(s_in, -0.5 * hmin, 0.5 * hmin), s_in)

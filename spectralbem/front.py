@@ -196,10 +196,10 @@ def resolved_front(mask, outer, inner, a0: float, spacing):
     """(outer, inner) front cells that belong to resolved patches (an outer front cell
     belongs to each patch it touches; resolved if one of them is)."""
     lab, ok = patch_labels(mask, a0, spacing)
-    return _touching(mask & ok[lab]) & outer, inner & ok[lab]
+    return touching(mask & ok[lab]) & outer, inner & ok[lab]
 
 
-def _touching(m: np.ndarray) -> np.ndarray:
+def touching(m: np.ndarray) -> np.ndarray:
     """Cells with a 4-neighbour (periodic) in ``m``."""
     out = np.zeros_like(m)
     for ax in (0, 1):
@@ -220,7 +220,7 @@ def balance_residual(s_out, s_in, res_out, res_in, free_in, hmin):
     return (float(r.max()) if r.size else 0.0), r
 
 
-def _bracketed(tests, add, remove, last_change):
+def bracketed(tests, add, remove, last_change):
     """Front cells whose band cells flip back this iteration (a 2-cycle: one state closes the
     cell, the next opens it): their balanced edge lies inside the flipping cell, so its
     position is that cell's centre to ± h/2 (residual 0 by :func:`balance_residual`)."""

@@ -89,11 +89,11 @@ def test_linear_stress_intensity_removes_most_of_the_second_order_edge_error():
         assert abs(errs[1]) < 7.5e-3  # a0 = a/10: area within 0.75 % (measured 0.69 %)
 
 
-@given(a=st.floats(-1.0, 1.0), r=st.floats(-0.5, 0.5), c0=st.floats(-1.0, 1.0))
+@given(a=st.floats(-1.0, 1.0), r=st.floats(-0.45, 0.45), c0=st.floats(-1.0, 1.0))
 def test_load_correction_secant_lands_on_the_fixed_point_of_a_linear_map(a, r, c0):
     """The load correction of a balanced mask, c = g(c): substitution first, then a secant
     step through the previous pair, exact for a clear linear contraction g(c) = a + r c
-    (|r| ≤ ½); a slow one (r near 1, as near a pull-off) keeps substitution."""
+    (|r| < ½); a slow one (r near 1, as near a pull-off) keeps substitution."""
     from spectralbem.adhesive import _next_correction
 
     def g(c):

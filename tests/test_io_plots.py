@@ -78,7 +78,7 @@ KINDS = {
                             "control.mean_pressure": [2e3, 500.0]}),
 }
 LABELS = {"grid": ("x (mm)", "distance along v (mm)"), "adhesive_grid": ("x (mm)",),
-          "oned": ("k x",), "path": ("p̄ (Pa)",)}
+          "oned": ("k x (sliding along +x)",), "path": ("p̄ (Pa)",)}
 
 
 @pytest.fixture(scope="module")

@@ -151,11 +151,11 @@ def sharp_crack_offset(F_close, F_open, a0: float):
     K_c² = 2E*Δγ) the band means of k² are g_c = 1 + F_close = u² + uv + v²/3 over
     [0, a0] and g_o = 1 + F_open = u² − uv + v²/3 over [−a0, 0], so
     u² = (m + √(m² − 4d²/3))/2 with m = (g_c + g_o)/2, d = (g_c − g_o)/2, v = d/u, and the
-    edge k = 1 lies at s = a0 (1 − u)/v.  Exact when K is linear; the discriminant is
-    clipped at 0 (the closest linear K) where K would change sign inside the opening band.
-    Where the band means are not both positive and increasing outward (no tensile crack
-    tip to fit), the linear fit of G with its midpoint shift a0/2 is used
-    (:func:`sub_cell_offset`)."""
+    edge k = 1 lies at s = a0 (1 − u)/v.  Exact when K is linear with |v| ≤ √3 u (K may
+    change sign inside the opening band; the larger root is the one taken); the
+    discriminant is clipped at 0 where no linear K fits the two means.  Where the band
+    means are not non-negative and increasing outward (no tensile crack tip to fit), the
+    linear fit of G with its midpoint shift a0/2 is used (:func:`sub_cell_offset`)."""
     Fc, Fo = np.asarray(F_close, float), np.asarray(F_open, float)
     gc, go = 1.0 + Fc, 1.0 + Fo
     fit = (gc > go) & (go >= 0.0)

@@ -24,6 +24,7 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import spectralbem as sb  # noqa: E402
@@ -69,7 +70,7 @@ def main(argv=None):
         ds = FIGURES[name]()
         path = OUT / f"example_{name}.png"
         fig = plot_dataset(ds, path)
-        matplotlib.pyplot.close(fig)
+        plt.close(fig)
         print(f"{path.relative_to(CASES.parent)}", flush=True)
 
 

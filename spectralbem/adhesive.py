@@ -134,21 +134,18 @@ def _moves(tests, mask, s_out, s_in, w, pinned, hmin, wide=None, tol=0.0):
     cells more: the rescue of an oscillating front, :func:`solve_adhesive`)."""
     b = tests.bands
     half = 0.5 * hmin
-    more = 0.0 if wide is None else np.where(wide.ravel(), tol * hmin, 0.0)
+    extra = None if wide is None else np.where(wide.ravel(), tol * hmin, 0.0)
     ob = np.flatnonzero(b.outer_band)  # band cells, each with its owning front cell
-    add = np.zeros(mask.shape, bool)
-    add.ravel()[ob] = (s_out.ravel()[b.outer_owner.ravel()[ob]]
-                       > b.outer_dist.ravel()[ob] - half + _at(more, ob))
     ib = np.flatnonzero(b.inner_band & ~pinned & ~_blocked(tests, w))
+    reach_out = b.outer_dist.ravel()[ob] - half  # the nearest-centre rule
+    reach_in = b.inner_dist.ravel()[ib] - half
+    if extra is not None:
+        reach_out, reach_in = reach_out + extra[ob], reach_in + extra[ib]
+    add = np.zeros(mask.shape, bool)
+    add.ravel()[ob] = s_out.ravel()[b.outer_owner.ravel()[ob]] > reach_out
     remove = np.zeros(mask.shape, bool)
-    remove.ravel()[ib] = (s_in.ravel()[b.inner_owner.ravel()[ib]]
-                          < -(b.inner_dist.ravel()[ib] - half + _at(more, ib)))
+    remove.ravel()[ib] = s_in.ravel()[b.inner_owner.ravel()[ib]] < -reach_in
     return add, remove
-
-
-def _at(values, idx):
-    """values[idx] of an array, or the scalar itself."""
-    return values[idx] if np.ndim(values) else values
 
 
 def _held_offsets(s_out, s_in, outer, held_in):
@@ -539,7 +536,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
             # rescue, once: the cells that oscillate move from now on only when their front
             # cell is unbalanced (beyond the acceptance band), so a front that oscillates
             # inside it settles; the status rule is unchanged (every cell balanced)
-            wide = osc.flips >= min(OSCILLATION_FLIPS, max(1, int(osc.flips.max())))
+            wide = osc.flips >= min(OSCILLATION_FLIPS, int(osc.flips.max()))
             osc = _Oscillation(cell.shape)
             add, remove = _moves(tests, mask, s_out, s_in, w, pinned, hmin, wide, front_tol)
             reason = osc.step(mask, add | remove) if (add.any() or remove.any()) else ""

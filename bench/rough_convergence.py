@@ -10,10 +10,11 @@ balanced fractions and CPU time; then the observed order and a Richardson estima
 error of each N from the three finest grids.
 
 Usage: python bench/rough_convergence.py [--sizes 128 256 512] [--materials elastic sls]
-           [--a0 7.8125e-6] [--sigma 6] [--out bench/rough_convergence.json] [--report]
+           [--a0 7.8125e-6] [--sigma 1.5] [--out bench/rough_convergence.json] [--report]
        python bench/rough_convergence.py --scan
 ``--report`` only rewrites docs/rough_convergence.md from the JSON; ``--scan`` runs the
-elastic loading state against a0 and σ in cells (SCAN; JSON rough_convergence_lengths.json).
+elastic loading state against a0 and σ (SCAN; JSON rough_convergence_lengths.json).  σ, the
+front smoothing, is given in units of a0 (``solver.front_smoothing``).
 """
 
 from __future__ import annotations
@@ -42,8 +43,9 @@ MATERIALS = {
 
 
 def _solve(n: int, material: str, a0: float, sigma: float | None, loads=None):
-    """(Dataset, CPU s) of the case at N², the material's overrides, a0 (m), σ (cells, fixed:
-    no growth with the patch; None: the default) and the load path (None: the case's)."""
+    """(Dataset, CPU s) of the case at N², the material's overrides, a0 (m), σ (in units of
+    a0, fixed: no growth with the patch; None: the default) and the load path (None: the
+    case's)."""
     raw = read_scene_file(CASE)
     if MATERIALS[material] is not None:
         raw["material"] = dict(MATERIALS[material])
@@ -58,7 +60,7 @@ def _solve(n: int, material: str, a0: float, sigma: float | None, loads=None):
 
 
 def run_one(n: int, material: str, a0: float, sigma: float | None) -> dict:
-    """One load path at N², the material's overrides, a0 (m), σ (cells or None)."""
+    """One load path at N², the material's overrides, a0 (m), σ (units of a0, or None)."""
     ds, cpu = _solve(n, material, a0, sigma)
     steps = []
     for k in range(ds.sizes["step"]):
@@ -75,8 +77,9 @@ def run_one(n: int, material: str, a0: float, sigma: float | None) -> dict:
 
 
 def scan_one(n: int, a0_cells: float, sigma: float | None) -> dict:
-    """The elastic loading state at 1e4 Pa at N² with a0 and σ in cells (a0 is numerical in
-    an elastic scene): area fraction, status, balanced fraction, front length, CPU s."""
+    """The elastic loading state at 1e4 Pa at N² with a0 in cells and σ in units of a0 (a0
+    is numerical in an elastic scene): area fraction, status, balanced fraction, front
+    length, CPU s."""
     ds, cpu = _solve(n, "elastic", a0_cells * 1e-3 / n, sigma, loads=[1e4])
     return dict(N=n, a0_cells=a0_cells, sigma=sigma, cpu=cpu,
                 area_fraction=float(ds["area_fraction"]), status=str(ds["status"].values),
@@ -120,7 +123,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
     for (mat, a0, sig), rs in sorted(by.items(), key=lambda kv: str(kv[0])):
         rs = sorted(rs, key=lambda r: r["N"])
         lines += [f"## {mat}, a0 = {a0 * 1e6:g} µm, front smoothing σ = "
-                  f"{'default' if sig is None else sig} cells", "",
+                  f"{'default (1.5 a0)' if sig is None else f'{sig:g} a0'}", "",
                   "| N | step | status | balanced | area | mean gap (µm) | μ | μ_a | G1/Δγ | "
                   "G2/Δγ | CPU s |", "|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in rs:
@@ -155,20 +158,23 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
 
 
 def lengths_report(scans: list) -> list:
-    """The tables of the elastic loading state against a0 and σ (cells) at each N, and of
-    a0 = one cell at every N with its Richardson estimate."""
+    """The tables of the elastic loading state against a0 and σ at each N, and of a0 = one
+    cell at every N with its Richardson estimate."""
     if not scans:
         return []
     lines = ["## Numerical lengths of the elastic state (loading, 1e4 Pa)", "",
-             "`python bench/rough_convergence.py --scan`: a0 and the front smoothing σ in "
-             "cells (σ fixed: no growth with the patch; default: 6 cells, growing to 0.23 of "
-             "a patch's radius).", "",
-             "| N | a0 (cells) | a0 (µm) | σ (cells) | status | balanced | area | "
-             "front length (mm) | CPU s |", "|---|---|---|---|---|---|---|---|---|"]
+             "`python bench/rough_convergence.py --scan`: a0 and the front smoothing σ "
+             "(set: fixed, no growth with the patch; default: 1.5 a0, growing to 0.23 of a "
+             "patch's radius).", "",
+             "| N | a0 (cells) | a0 (µm) | σ/a0 | σ (µm) | status | balanced | area | "
+             "front length (mm) | CPU s |", "|---|---|---|---|---|---|---|---|---|---|"]
     for r in sorted(scans, key=lambda r: (r["N"], r["a0_cells"], -1 if r["sigma"] is None
                                           else r["sigma"])):
-        lines.append(f"| {r['N']} | {r['a0_cells']:g} | {r['a0_cells'] * 1e3 / r['N']:.3g} | "
-                     f"{'default' if r['sigma'] is None else format(r['sigma'], 'g')} | "
+        a0 = r['a0_cells'] * 1e3 / r['N']
+        sig = 1.5 if r['sigma'] is None else r['sigma']
+        lines.append(f"| {r['N']} | {r['a0_cells']:g} | {a0:.3g} | "
+                     f"{'default' if r['sigma'] is None else format(sig, 'g')} | "
+                     f"{sig * a0:.3g} | "
                      f"{r['status']} | {r['balanced_fraction']:.3f} | "
                      f"{r['area_fraction']:.4f} | {r['front_length'] * 1e3:.2f} | "
                      f"{r['cpu']:.0f} |")
@@ -187,11 +193,12 @@ def lengths_report(scans: list) -> list:
     return lines + [""]
 
 
-#: the numerical-length scan: (N, a0 in cells, σ in cells or None = default)
+#: the numerical-length scan: (N, a0 in cells, σ in units of a0 or None = default): a0 of
+#: one cell at every N; a0 of 2 and 4 cells; σ against a0 = 7.8 µm fixed in metres
 SCAN = ([(n, 1.0, None) for n in (128, 256, 512, 1024)]
         + [(n, m, None) for n in (256, 512) for m in (2.0, 4.0)]
-        + [(n, 1.0, sig) for n in (256, 512) for sig in (1.5, 3.0, 12.0)]
-        + [(256, 1.0, 0.0)])
+        + [(n, n / 128, sig) for n in (256, 512) for sig in (0.75, 3.0)]
+        + [(1024, 8.0, None), (1024, 8.0, 3.0), (256, 1.0, 0.0)])
 
 
 def main(argv=None):
@@ -207,7 +214,7 @@ def main(argv=None):
         "rough_convergence.json"))
     ap.add_argument("--report", action="store_true")
     ap.add_argument("--scan", action="store_true",
-                    help="only the elastic state against a0 and σ in cells (SCAN)")
+                    help="only the elastic state against a0 and σ (SCAN)")
     args = ap.parse_args(argv)
     runs = json.loads(args.out.read_text()) if args.out.exists() else []
     scan_path = args.out.with_name(args.out.stem + "_lengths.json")

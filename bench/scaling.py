@@ -4,7 +4,7 @@
   time per iteration, iterations, FFT pairs per iteration and the time of one planned FFTW
   pair, against N.  Time per iteration should follow N² log N.
 * Viscoelastic adhesive sphere (the scene of bench/sphere.py: β = 10, ζ = 0.1, contact radius
-  0.1 L, a0 = one cell, zero load; σ scaled with the radius, 6 cells at 256²) up to 512²:
+  0.1 L, a0 = one cell, zero load; σ scaled with the radius, 6 a0 = 6 cells at 256²) up to 512²:
   peak memory of the solve (numpy allocations traced by tracemalloc, which numpy reports to)
   in units of one N² float64 array; target ≤ 25.
 
@@ -60,7 +60,7 @@ def elastic_row(n: int) -> dict:
 
 def adhesive_row(n: int) -> dict:
     cell, op, h, w, mask0 = sphere_scene(n)
-    sigma = 6.0 * n / 256  # the same smoothing length in units of the radius
+    sigma = 6.0 * n / 256  # in units of a0 = one cell: the same length against the radius
     tracemalloc.start()
     t = time.perf_counter()
     res = ad.solve_adhesive(op, h, w, cell.hx, mean_pressure=0.0, mask0=mask0,

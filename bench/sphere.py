@@ -65,8 +65,8 @@ def sphere_scene(n: int):
 
 
 def run(n: int = 512, sigma: float | None = None):
-    """``sigma`` None: the library's default smoothing (σ = 6 cells, raised to 0.23 of the
-    patch radius); a number: that σ fixed."""
+    """``sigma`` None: the library's default smoothing (σ = 1.5 a0, raised to 0.23 of the
+    patch radius); a number: that σ fixed (in units of a0, here one cell)."""
     cell, op, h, w, mask0 = sphere_scene(n)
     bucket = {}
     timed(ad, "solve_masked", bucket)

@@ -344,7 +344,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     'hybrid' (the zero-solve predictor moves the front until it stops, then the exact tests
     finish) or 'predictor' (the predictor alone; the exact tests are evaluated once on the
     final mask, for the outputs — cheaper, less accurate: docs/performance.md).
-    ``front_smoothing``: σ (cells) of the average along the front
+    ``front_smoothing``: σ of the average along the front in units of a0
     (criterion.smooth_along_front), raised to ``smoothing_per_radius`` times the front
     radius 2A/P of large patches (criterion.patch_sigmas; 0 keeps σ fixed).
 

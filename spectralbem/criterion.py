@@ -35,9 +35,15 @@ from .spectral import SpectralOperator
 _CROSS = ndimage.generate_binary_structure(2, 1)
 
 
-#: σ (cells) of the average of the balance along the front: a lattice length (docs/theory.md:
-#: 3 is more accurate on small patches but left the 512² viscoelastic rough state unconverged)
-FRONT_SMOOTHING = 6.0
+#: σ of the average of the balance along the front, in units of a0: the balance is a mean
+#: over a piece of front about as long as its band is wide (docs/theory.md, "averaging
+#: along the front").  A physical length where a0 is (viscoelastic scenes), numerical with
+#: it in elastic ones (a0 of one cell: σ = 1.5 cells).  Measured on the rough surface of
+#: docs/rough_convergence.md (elastic, a0 = 7.8 µm): σ = 5.9, 11.7, 23.4 µm give areas
+#: 0.2791, 0.2724, 0.2624 at 256² and 0.2747, 0.2704, 0.2609 at 512² (the bias grows about
+#: linearly with σ); a viscoelastic state with σ of 1.5 cells ends ``not_converged`` at 256²
+#: (σ = 3 cells converges).
+FRONT_SMOOTHING = 1.5
 
 #: σ grows with the contact patch: σ = max(FRONT_SMOOTHING, SMOOTHING_PER_RADIUS · r) for a
 #: patch of front radius r = min(2 area/perimeter, perimeter/2π) (cells; a disc's radius).
@@ -47,7 +53,7 @@ FRONT_SMOOTHING = 6.0
 #: With the equivalent radius √(area/π) instead of 2A/P, the percolating patch of a 256²
 #: rough contact at 45 % area got σ = 22 cells, a lattice cycle and 8 % less area; without
 #: the P/2π bound a y-invariant strip got σ in the hundreds (same result, 3× the time).
-#: Patches under 26 cells of front radius keep σ = 6.  0 switches the growth off.
+#: 0 switches the growth off.
 SMOOTHING_PER_RADIUS = 0.23
 
 #: average along the front graph (True) or with a grid Gaussian restricted to front cells
@@ -201,6 +207,12 @@ def _dg_area(dg: np.ndarray, area: float, cells: np.ndarray) -> np.ndarray:
     return area * (dg.ravel()[cells] if dg.ndim else np.full(cells.size, float(dg)))
 
 
+def _sigma_cells(front_smoothing: float, a0: float, hmin: float, shape) -> float:
+    """σ in cells from σ in units of a0, at most half the grid's longer side (a wider
+    average is the mean over the front; the walk's cost grows as σ²)."""
+    return min(front_smoothing * a0 / hmin, 0.5 * max(shape))
+
+
 def _front_average(b: Bands, F_close, W_close, F_open, W_open, sigma: float,
                    per_radius: float):
     """The closing and opening balances averaged along their fronts (ratio of sums, each
@@ -305,7 +317,8 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     ``mask``, ``u`` its displacement C p if the caller has it.  ``observables``: name ->
     field f; the sums Σ p f of each test state are recorded (in ``closing``/``opening``
     entries' fifth item) so that integrated quantities can be interpolated to the sub-cell
-    front.
+    front.  ``front_smoothing``: σ of the average along the front in units of a0, raised to
+    ``smoothing_per_radius`` times the front radius of large patches (:func:`patch_sigmas`).
     """
     cell = op.cell
     area = cell.cell_area
@@ -374,7 +387,8 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             W_open.ravel()[owners[has]] = acc["dg"][has]
     # ratio of sums along the front: each front cell weighs by its band's Δγ·area, so that
     # owners of unequal band patches (staircase corners) do not bias the local balance
-    F_close, F_open = _front_average(b, F_close, W_close, F_open, W_open, front_smoothing,
+    F_close, F_open = _front_average(b, F_close, W_close, F_open, W_open,
+                                     _sigma_cells(front_smoothing, a0, hmin, mask.shape),
                                      smoothing_per_radius)
     F_close[force_close] = -np.inf
     solves = tester.solves + bool(op.viscoelastic)
@@ -415,6 +429,7 @@ def predictor_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np
     """
     cell = op.cell
     area = cell.cell_area
+    hmin = min(cell.hx, cell.hy)
     dg = np.asarray(dgamma, dtype=float)
     b = bands(mask, cell.hx, cell.hy, a0)
     if u is None:
@@ -440,7 +455,8 @@ def predictor_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np
         g_open.ravel()[cells] = g_minus
         dL = -0.5 * area * np.nan_to_num(g_minus) * p.ravel()[cells]
         _balance(dL, cells, own, _dg_area(dg, area, cells), F_open, W_open)
-    F_close, F_open = _front_average(b, F_close, W_close, F_open, W_open, front_smoothing,
+    F_close, F_open = _front_average(b, F_close, W_close, F_open, W_open,
+                                     _sigma_cells(front_smoothing, a0, hmin, mask.shape),
                                      smoothing_per_radius)
     nan = np.full(mask.shape, np.nan)
     return FrontTest(F_close, F_open, nan, np.zeros(mask.shape), g_open, {}, {},

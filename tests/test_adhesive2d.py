@@ -240,6 +240,28 @@ def test_front_smoothing_defaults_are_the_solvers():
     assert SECTIONS["solver"]["smoothing_per_radius"].default == cr.SMOOTHING_PER_RADIUS
 
 
+@pytest.mark.parametrize("n, a0_cells", [(64, 1.0), (64, 2.0), (128, 4.0), (16, 1.6e4)])
+def test_front_smoothing_is_a_length_in_units_of_a0(monkeypatch, n, a0_cells):
+    """solver.front_smoothing is σ/a0: the average along the front spans σ = 1.5 a0 whatever
+    the cell (1.5, 3, 6 cells at a0 = 1, 2, 4 cells: the same physical length on a grid
+    refined with a0 fixed in metres), capped at half the grid (a0 of 16000 cells on a
+    16-cell grid: σ = 8 cells, not a walk of 10⁹ steps)."""
+    from spectralbem import criterion as cr
+
+    seen = []
+    real = cr.patch_sigmas
+    monkeypatch.setattr(cr, "patch_sigmas",
+                        lambda *a, **k: seen.append(a[3]) or real(*a, **k))
+    cell = Cell(1.0, 1.0, n, n)
+    op = SpectralOperator(cell, Elastic(1.0, 0.0))
+    X, Y = cell.coordinates()
+    mask = np.hypot(X - 0.5, Y - 0.5) < 0.3
+    w = np.zeros(cell.shape)
+    p = np.where(mask, 1.0, 0.0)
+    cr.predictor_tests(op, w, mask, p, 1e-3, a0_cells * cell.hx)
+    assert seen and seen[0] == pytest.approx(min(1.5 * a0_cells, n / 2), rel=1e-12)
+
+
 def test_front_smoothing_grows_with_the_patch_and_stays_on_it():
     """criterion.patch_sigmas: σ = max(σ0, c·r) per patch (r = 2A/P, a disc's radius, in
     cells), and smooth_along_front averages each σ group over its own front cells only."""

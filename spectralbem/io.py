@@ -99,6 +99,13 @@ def cf_attributes(ds: xr.Dataset, history: str | None = None) -> xr.Dataset:
     for name, axis in (("x", "X"), ("y", "Y")):
         if name in ds.coords:
             ds[name].attrs["axis"] = axis
+    if "heights" in ds and ds["heights"].dims == ("x", "y"):
+        # SurfaceTopography's netCDF layout: the size as ``length``, ``unit``, ``periodic``
+        ds["heights"].attrs["unit"] = "m"
+        for name in ("x", "y"):
+            c = np.asarray(ds[name].values, float)
+            step = float(c[1] - c[0]) if c.size > 1 else float("nan")
+            ds[name].attrs.update(length=step * c.size, unit="m", periodic=np.int8(1))
     if "contact" in ds:
         ds["contact"].attrs.update(flag_values=np.array([0, 1], np.int8),
                                    flag_meanings="no_contact contact")
@@ -203,17 +210,18 @@ def _discard(tmp) -> None:
         pass
 
 
-def write_dataset(ds: xr.Dataset, path) -> Path:
+def write_dataset(ds: xr.Dataset, path, *, format: str = "NETCDF4") -> Path:
     """Write netCDF4 atomically: a temporary file in the target folder, then rename.  The file
     gets the permissions of a plain new file (0o666 minus the umask); a full disk raises
-    :class:`DiskFullError` naming the path, and no temporary file is left behind."""
+    :class:`DiskFullError` naming the path, and no temporary file is left behind.
+    ``format``: netCDF-C's file format (``NETCDF3_64BIT`` for readers of classic files)."""
     path = Path(path)
     if not str(path.parent):
         path = Path(".") / path
     fd, tmp = _temporary(path)
     os.close(fd)
     try:
-        ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4")
+        ds.to_netcdf(tmp, engine="netcdf4", format=format)
         os.replace(tmp, path)
     except BaseException as exc:
         full = _full_disk(exc, path, int(ds.nbytes))
@@ -222,6 +230,20 @@ def write_dataset(ds: xr.Dataset, path) -> Path:
             raise full from exc
         raise
     return path
+
+
+def write_heights(ds: xr.Dataset, path) -> Path:
+    """The heights of a result dataset alone, as a classic (netCDF-3) file in
+    SurfaceTopography's layout — ``heights(x, y)`` and the coordinates, with ``unit``, and
+    ``length`` and ``periodic`` on x and y — which its reader and
+    :func:`spectralbem.surfaces.read_heights` both read (a surface for another tool, or
+    for a later scene of ``surface.kind = "file"``)."""
+    if "heights" not in ds or ds["heights"].dims != ("x", "y"):
+        raise ValueError("the dataset has no heights(x, y) to write (a 2D state's dataset "
+                         "with output.fields = true has)")
+    out = xr.Dataset({"heights": ds["heights"]})
+    cf_attributes(out)
+    return write_dataset(out, path, format="NETCDF3_64BIT")
 
 
 def write_text(path, text: str) -> Path:

@@ -301,6 +301,16 @@ def _read_heights(path: Path, variable: str, scale: float):
             topo = read_topography(str(path))
             h = np.asarray(topo.heights(), dtype=float)
             size = tuple(float(s) for s in topo.physical_sizes)
+            stated = getattr(topo, "unit", None)
+            unit = _length_unit(stated, "unit", path)
+            if unit is not None:  # heights and sizes in the instrument's unit: to m
+                if scale != 1.0:
+                    raise SurfaceError(
+                        f"height map {_quote(path)} states its unit ({stated!r}); "
+                        f"surface.scale = {scale!r} would scale it twice: leave scale at 1")
+                h, size = h * unit, tuple(x * unit for x in size)
+            else:  # no unit stated: the scale applies to the sizes as to the heights
+                size = tuple(x * scale for x in size)
         if not (np.issubdtype(np.asarray(h).dtype, np.integer)
                 or np.issubdtype(np.asarray(h).dtype, np.floating)):
             raise SurfaceError(f"height map {_quote(path)} holds {np.asarray(h).dtype} values; "

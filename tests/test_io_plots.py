@@ -35,6 +35,34 @@ def test_units_and_round_trip(dataset, tmp_path):
     assert list(tmp_path.iterdir()) == [path]  # no temporary file left behind
 
 
+def test_heights_in_surface_topographys_layout(dataset, tmp_path):
+    """The dataset's heights carry SurfaceTopography's netCDF layout (``heights(x, y)``
+    with ``unit``; ``length``, ``unit``, ``periodic`` on x and y), and io.write_heights
+    writes them alone as the classic file its reader takes: our reader takes them back with
+    their size, and so does SurfaceTopography's when that optional package is installed
+    (the same heights, sizes, unit and periodicity)."""
+    from spectralbem.io import write_heights
+    from spectralbem.surfaces import read_heights
+
+    path = write_heights(dataset, tmp_path / "h.nc")
+    assert path.read_bytes()[:3] == b"CDF"  # classic netCDF
+    with pytest.raises(ValueError, match="no heights"):
+        write_heights(dataset.drop_vars("heights"), tmp_path / "none.nc")
+    for name in ("x", "y"):
+        a = dataset[name].attrs
+        assert a["unit"] == "m" and a["periodic"] == 1
+        assert a["length"] == pytest.approx(1e-3, rel=1e-12)
+    assert dataset["heights"].attrs["unit"] == "m"
+    h, size = read_heights(path)
+    np.testing.assert_array_equal(h, dataset["heights"].values)
+    assert size == pytest.approx((1e-3, 1e-3), rel=1e-12)
+    st = pytest.importorskip("SurfaceTopography")
+    topo = st.read_topography(str(path))
+    np.testing.assert_array_equal(np.asarray(topo.heights()), dataset["heights"].values)
+    assert tuple(topo.physical_sizes) == pytest.approx((1e-3, 1e-3), rel=1e-12)
+    assert topo.unit == "m" and topo.is_periodic
+
+
 def test_unwritable_output(dataset, tmp_path):
     with pytest.raises(OSError, match="does not exist"):
         write_dataset(dataset, tmp_path / "missing" / "r.nc")

@@ -197,6 +197,46 @@ def test_netcdf_height_map_in_micrometres_is_read_in_metres(tmp_path):
                     "control": {"mean_pressure": "10 kPa"}})
 
 
+def test_instrument_file_in_micrometres_is_read_in_metres(tmp_path, monkeypatch):
+    """An instrument file (any other suffix) goes through SurfaceTopography's
+    ``read_topography``; its heights and physical sizes are in the file's unit, converted
+    to m (a 500 µm scan read as 500 m was refused against the grid); with a stated unit a
+    scale is refused, without one the scale applies to the sizes as to the heights.  The
+    reader is a stand-in here, so the test runs without the optional package."""
+    import sys
+    import types
+
+    from spectralbem import surfaces
+    from spectralbem.surfaces import read_heights
+
+    h_um = np.random.default_rng(5).normal(size=(8, 4))
+
+    class Topo:
+        physical_sizes = (500.0, 250.0)
+        unit = "µm"
+
+        def heights(self):
+            return h_um
+
+    fake = types.ModuleType("SurfaceTopography")
+    fake.read_topography = lambda path: Topo()
+    monkeypatch.setitem(sys.modules, "SurfaceTopography", fake)
+    path = tmp_path / "scan.opd"
+    path.write_bytes(b"instrument bytes")
+    h, size = read_heights(path)
+    assert np.allclose(h, h_um * 1e-6) and np.allclose(size, (5e-4, 2.5e-4))
+    with pytest.raises(SurfaceError, match="would scale it twice"):
+        read_heights(path, scale=1e-6)
+    Topo.unit = None
+    surfaces._LAST_READ.clear()
+    h, size = read_heights(path, scale=1e-6)
+    assert np.allclose(h, h_um * 1e-6) and np.allclose(size, (5e-4, 2.5e-4))
+    Topo.unit = "Pa"
+    surfaces._LAST_READ.clear()
+    with pytest.raises(SurfaceError, match="unit = 'Pa' is not a length unit"):
+        read_heights(path)
+
+
 def test_a_height_map_scene_takes_its_grid_from_the_file(tmp_path, monkeypatch):
     """Without a [grid] the scene takes Nx, Ny from the map's shape and Lx, Ly from the size
     the netCDF file states; a .npy map states no size, so Lx, Ly stay required (named)."""

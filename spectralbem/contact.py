@@ -193,9 +193,13 @@ FULL_CHECK = 0.9
 REFILL_BYTES = 2**20
 
 
+#: iterations between two calls of a solve's ``progress(iteration, text)``
+PROGRESS_EVERY = 10
+
+
 def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetration=None,
                   tol: float = 1e-10, maxiter: int = 10000, p0=None, refresh: int = 50,
-                  restart: str = "descent"):
+                  restart: str = "descent", progress=None):
     """Constrained CG of Polonsky & Keer (1999) for a symmetric operator.
 
     The pressure is carried in Fourier space as well (p̂ = S·P, the load-control rescaling
@@ -337,6 +341,8 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             u, idx, wc, pc_cur, tc, load, gc, w_out, ov_buf)
         # convergence test on the current state: complementarity and no overlap
         err = e_sum / (p_sum * hrange)
+        if progress is not None and it % PROGRESS_EVERY == 0:
+            progress(it, f"error {err:.1e}")
         if not math.isfinite(err):
             message = f"non-finite error at iteration {it}"
             break
@@ -543,14 +549,16 @@ def active_set(op: SpectralOperator, heights, *, mean_pressure=None, penetration
 
 def solve_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetration=None,
                   tol: float = 1e-10, maxiter: int = 10000, p0=None,
-                  mask0=None, method: str = "auto") -> ContactResult:
+                  mask0=None, method: str = "auto", progress=None) -> ContactResult:
     """Adhesiveless contact of the rigid profile ``heights`` under load or penetration control
     (the solver validates the inputs before any work).
 
     ``method``: 'auto' (Polonsky–Keer for a symmetric operator, the semismooth Newton method
     of :mod:`spectralbem.newton` otherwise, falling back to the active set where it does not
     converge), or 'active-set' (exact masked solves: the reference the Newton method is
-    tested against, 3-100× slower); a symmetric operator always runs Polonsky–Keer."""
+    tested against, 3-100× slower); a symmetric operator always runs Polonsky–Keer.
+    ``progress``: None or ``progress(iteration, text)``, called every
+    :data:`PROGRESS_EVERY` iterations of Polonsky–Keer and at every Newton step."""
     from .newton import newton_contact
 
     if method not in ("auto", "active-set"):
@@ -559,7 +567,7 @@ def solve_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     if op.symmetric:
         p, u, delta, its, conv, msg, pairs = polonsky_keer(
             op, h, mean_pressure=mean_pressure, penetration=penetration, tol=tol,
-            maxiter=maxiter, p0=p0)
+            maxiter=maxiter, p0=p0, progress=progress)
         mask = p > 0
         method = "polonsky-keer"
         diag = {"fft_pairs": pairs}
@@ -571,7 +579,7 @@ def solve_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     else:
         p, u, delta, mask, its, conv, msg, outer, pairs = newton_contact(
             op, h, mean_pressure=mean_pressure, penetration=penetration, tol=tol,
-            mask0=mask0, p0=p0)
+            mask0=mask0, p0=p0, progress=progress)
         method = "semismooth-newton"
         diag = {"outer_iterations": outer, "fft_pairs": pairs}
         if not conv:

@@ -111,7 +111,7 @@ def _start(op, h, mean_pressure, penetration, tol):
 
 def newton_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetration=None,
                    tol: float = 1e-10, max_outer: int = 200, mask0=None, p0=None,
-                   loose: float = LOOSE, start_tol: float = START_TOL):
+                   loose: float = LOOSE, start_tol: float = START_TOL, progress=None):
     """Adhesiveless contact of a non-symmetric operator by inexact semismooth Newton.
 
     Converged when no cell leaves or joins the set after a solve to ``tol`` (relative
@@ -152,6 +152,8 @@ def newton_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetra
     u = None
     moved = True
     for outer in range(1, max_outer + 1):
+        if progress is not None:
+            progress(outer, f"Newton step, {int(mask.sum())} cells in contact")
         if np.all(mask):
             full = _full_contact(op, h, mean_pressure, penetration)
             if full is not None:

@@ -326,7 +326,8 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
                 "history": r.history[-20:]}
     else:
         res = solve_contact(op, h, mean_pressure=scene.p_mean, penetration=scene.delta,
-                            tol=tol, maxiter=scene.solver["max_iterations"])
+                            tol=tol, maxiter=scene.solver["max_iterations"],
+                            progress=progress)
         p, mask, delta, u = res.pressure, res.mask, res.penetration, res.displacement
         status = ("full_contact" if res.full_contact else "partial") if res.converged else (
             "not_converged")
@@ -356,8 +357,13 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
     return ds, mask
 
 
+#: an adhesiveless grid solve shows its iterations from this many cells (512²: seconds)
+PROGRESS_CELLS = 512 * 512
+
+
 def _front_progress(bar):
-    """The adhesive front's progress callback on a tqdm bar: the text first, then the count
+    """A solve's progress callback (the adhesive front's outer iterations, the contact
+    solver's iterations) on a tqdm bar: the text first, then the count
     (so that the line shows the current iteration's text; a repeated count refreshes it)."""
     def show(k: int, text: str) -> None:
         bar.set_postfix_str(text, refresh=False)
@@ -416,7 +422,7 @@ def _solve_1d(scene: Scene, guess=None):
 
 def _solve_one(scene: Scene, state, progress=None):
     """One control value; ``state`` carries the mask (grid) or edges (1D) between steps;
-    ``progress``: the adhesive front's per-iteration callback (solve_adhesive)."""
+    ``progress``: the solve's per-iteration callback (solve_adhesive, solve_contact)."""
     if scene.model == "sinusoid1d":
         ds = _solve_1d(scene, guess=state)
         ok = ds.status.item() == "partial"
@@ -457,8 +463,11 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
 
         if len(steps) > 1:
             it = tqdm(steps, desc="path", unit="step")
-        if scene.adhesive and scene.model == "grid2d":
-            bar = tqdm(desc="front", unit="it", position=int(len(steps) > 1), leave=False)
+        if scene.model == "grid2d" and (scene.adhesive
+                                        or scene.cell.shape[0] * scene.cell.shape[1]
+                                        >= PROGRESS_CELLS):
+            bar = tqdm(desc="front" if scene.adhesive else "contact", unit="it",
+                       position=int(len(steps) > 1), leave=False)
     for v in it:
         if bar is not None:
             bar.reset()

@@ -277,6 +277,39 @@ def test_a_single_adhesive_solve_shows_its_front_iterations(tmp_path, capsys):
     assert "front:" in err and "cells in contact" in err and "balanced 1.000" in err
 
 
+@pytest.mark.parametrize("material", ["elastic", "sls"])
+def test_a_large_adhesiveless_solve_shows_its_iterations(tmp_path, capsys, monkeypatch,
+                                                        material):
+    """From solving.PROGRESS_CELLS cells (lowered here to 64²) an adhesiveless solve shows
+    its iterations on a "contact" bar: every PROGRESS_EVERY Polonsky–Keer iterations with
+    the error (elastic), every Newton step with the contact's size (viscoelastic); below
+    that size, no bar."""
+    from spectralbem import solving
+    from spectralbem.scenes import load_scene, read_scene_file
+
+    raw = read_scene_file(CASES / "rubber_rough.toml")
+    if material == "elastic":
+        raw["material"] = {"kind": "elastic", "E": 1e6, "nu": 0.5}
+        raw.pop("motion", None)
+    scene = load_scene(raw, overrides={"grid.Nx": 64, "grid.Ny": 64,
+                                       "surface.cutoff_wavelength": 1.25e-4},
+                       base_dir=CASES)
+    shown = []
+    real = solving._front_progress
+
+    def spy(bar):
+        show = real(bar)
+        return lambda k, text: shown.append(text) or show(k, text)
+
+    monkeypatch.setattr(solving, "_front_progress", spy)
+    solving.solve(scene, progress=True)
+    assert "contact:" not in capsys.readouterr().err and not shown
+    monkeypatch.setattr(solving, "PROGRESS_CELLS", 64 * 64)
+    solving.solve(scene, progress=True)
+    assert "contact:" in capsys.readouterr().err
+    word = "error " if material == "elastic" else "Newton step"
+    assert shown and all(t.startswith(word) for t in shown), shown
+
 
 def test_no_panel_of_round_off_friction():
     """An elastic path has μ and μ_a zero to round-off (|μ| ~ 1e-17): no panel plots that

@@ -361,7 +361,7 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
 PROGRESS_CELLS = 512 * 512
 
 
-def _front_progress(bar):
+def _bar_progress(bar):
     """A solve's progress callback (the adhesive front's outer iterations, the contact
     solver's iterations) on a tqdm bar: the text first, then the count
     (so that the line shows the current iteration's text; a repeated count refreshes it)."""
@@ -472,7 +472,7 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
         if bar is not None:
             bar.reset()
         ds, state = _solve_one(scene.at_step(v), state,
-                               None if bar is None else _front_progress(bar))
+                               None if bar is None else _bar_progress(bar))
         out.append(ds)
     if bar is not None:
         bar.close()

@@ -295,13 +295,13 @@ def test_a_large_adhesiveless_solve_shows_its_iterations(tmp_path, capsys, monke
                                        "surface.cutoff_wavelength": 1.25e-4},
                        base_dir=CASES)
     shown = []
-    real = solving._front_progress
+    real = solving._bar_progress
 
     def spy(bar):
         show = real(bar)
         return lambda k, text: shown.append(text) or show(k, text)
 
-    monkeypatch.setattr(solving, "_front_progress", spy)
+    monkeypatch.setattr(solving, "_bar_progress", spy)
     solving.solve(scene, progress=True)
     assert "contact:" not in capsys.readouterr().err and not shown
     monkeypatch.setattr(solving, "PROGRESS_CELLS", 64 * 64)

@@ -89,7 +89,7 @@ def _check_output(path: Path):
 
 def _run(args) -> int:
     from .io import STATUS_MEANING, cf_attributes, write_dataset
-    from .plausibility import PlausibilityWarning
+    from .plausibility import PlausibilityWarning, state_warnings
     from .scenes import load_scene, solve
 
     out = Path(args.output)
@@ -103,6 +103,8 @@ def _run(args) -> int:
     ds.attrs["wall_time_s"] = time.perf_counter() - t
     cf_attributes(ds, history=_history(args.argv))
     write_dataset(ds, out)
+    for m in state_warnings(scene, ds):
+        print(f"warning: {m}", file=sys.stderr)
     status = ds["status"].values.ravel()
     seen = dict.fromkeys(str(s) for s in status)
     print(f"{Path(args.scene).name}: model {ds.attrs['model']}, status "
@@ -140,6 +142,15 @@ def _plot(args) -> int:
     if not path.is_file():
         raise FileNotFoundError(f"dataset {str(path)!r} does not exist")
     ds = read_dataset(path, verify=True)  # a corrupted file must not crash netCDF-C here
+    if args.step is not None:
+        n = ds.sizes.get("step", 0)
+        if not n:
+            raise ValueError(f"--step: {args.step} given but {path.name} is not a path "
+                             "(no step dimension)")
+        if not -n <= args.step < n:
+            raise ValueError(f"--step: {args.step} is outside the path's steps "
+                             f"[0, {n - 1}] (negative counts from the end)")
+        ds = ds.isel(step=args.step)
     out = Path(args.output) if args.output else path.with_suffix(".png")
     plot_dataset(ds, out)
     print(f"wrote {out}")
@@ -219,6 +230,9 @@ def build_parser() -> argparse.ArgumentParser:
             "profile cut (one state), a path, or the curves of a sweep.")
     p.add_argument("dataset", help="netCDF result file")
     p.add_argument("-o", "--output", help="PNG path (default: dataset name with .png)")
+    p.add_argument("--step", type=int, metavar="K",
+                   help="of a load path: the state figure of step K (default: the path's "
+                        "curves and the contact map of each step)")
     p.set_defaults(func=_plot)
     p = cmd("validate", "run the validation suite (make validate)",
             "Run the 2D solver against the 1D method and the references; writes "

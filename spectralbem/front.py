@@ -192,6 +192,25 @@ def unresolved_patches(mask: np.ndarray, a0: float, spacing) -> int:
     return int(ok.size - 1 - ok[1:].sum())
 
 
+#: share of the resolved contact area that lies in the "small" patches (small_patch_diameter)
+SMALL_PATCH_SHARE = 0.1
+
+
+def small_patch_diameter(mask: np.ndarray, a0: float, spacing) -> float:
+    """Size of the small resolved contact patches: the equivalent diameter 2√(A/π) below
+    which ``SMALL_PATCH_SHARE`` of the resolved patches' area lies (patches sorted by size;
+    the smallest patch itself is barely wider than the band whenever a0 is near the cell,
+    so the area-weighted tenth is the size that matters).  nan without a resolved patch."""
+    lab, ok = patch_labels(mask, a0, spacing)
+    area = np.bincount(lab.ravel(), minlength=ok.size)[1:] * float(spacing[0] * spacing[1])
+    area = area[ok[1:]]
+    if area.size == 0:
+        return float("nan")
+    area = np.sort(area)
+    k = int(np.searchsorted(np.cumsum(area), SMALL_PATCH_SHARE * area.sum()))
+    return float(2.0 * np.sqrt(area[min(k, area.size - 1)] / np.pi))
+
+
 def resolved_front(mask, outer, inner, a0: float, spacing):
     """(outer, inner) front cells that belong to resolved patches (an outer front cell
     belongs to each patch it touches; resolved if one of them is)."""

@@ -48,6 +48,10 @@ SCALARS = {
     "unresolved_patches": ("1", "unresolved patches",
                            "contact patches smaller than a disc of radius a0 (the band "
                            "tests cannot resolve them)"),
+    "small_patch_diameter": ("m", "small-patch diameter",
+                             "equivalent diameter of the resolved contact patches below "
+                             "which a tenth of their area lies (a0 should be under a tenth "
+                             "of it)"),
     "balanced_fraction": ("1", "balanced fraction",
                           "fraction of the resolved front balanced within front_tol"),
     "front_residual": ("1", "front residual (cells)",

@@ -12,6 +12,9 @@ where the solver fails: linear elasticity of a half-space (small strains: p̄/E*
 ≪ 1), a surface much lower than the cell is wide, a viscoelastic modulus known at every
 excited frequency, an advance width a0 small against the smallest asperities
 (docs/theory.md: a0 beyond a tenth of the patches moves the area by several per cent).
+Before the solve the cut-off wavelength stands for the patches' size; after an adhesive 2D
+solve :func:`state_warnings` checks a0 against the patches found (the dataset's
+``small_patch_diameter``), and ``run`` prints those too.
 """
 
 from __future__ import annotations
@@ -28,6 +31,9 @@ RMS_SLOPE = 0.5
 HEIGHT_OVER_CELL = 0.1
 #: a0 over the surface's short-wavelength cut-off above which a warning is given
 A0_OVER_CUTOFF = 0.1
+#: a0 over the small patches' diameter (dataset ``small_patch_diameter``) above which a
+#: warning is given after the solve
+A0_OVER_PATCH = 0.1
 
 
 class PlausibilityWarning(UserWarning):
@@ -97,7 +103,26 @@ def _a0_against_cutoff(scene) -> list[str]:
             "numerical and one cell is the most accurate, docs/theory.md)"]
 
 
-def warn(scene) -> None:
-    """Issue :func:`scene_warnings` as :class:`PlausibilityWarning`."""
-    for msg in scene_warnings(scene):
+def state_warnings(scene, ds) -> list[str]:
+    """After an adhesive 2D solve: a0 above ``A0_OVER_PATCH`` of the diameter below which a
+    tenth of the resolved contact area lies (``small_patch_diameter``, per step)."""
+    if "small_patch_diameter" not in ds or not scene.adhesive:
+        return []
+    d = np.atleast_1d(np.asarray(ds["small_patch_diameter"].values, float))
+    bad = np.flatnonzero(np.isfinite(d) & (scene.a0 > A0_OVER_PATCH * d))
+    if bad.size == 0:
+        return []
+    k = int(bad[np.argmin(d[bad])])
+    where = f" (step {k}; {bad.size} of {d.size} steps)" if d.size > 1 else ""
+    return [f"adhesion.a0: {scene.a0:.4g} m is {scene.a0 / d[k]:.3g} of the small contact "
+            f"patches' diameter {d[k]:.4g} m{where}: a tenth of the contact area lies in "
+            f"patches that narrow (warned above {A0_OVER_PATCH:g}: their edges are not "
+            "sharp against the band; a smaller a0 in an elastic scene, a finer grid with it, "
+            "docs/theory.md)"]
+
+
+def warn(scene, ds=None) -> None:
+    """Issue :func:`scene_warnings` (or, given the solve's dataset, :func:`state_warnings`)
+    as :class:`PlausibilityWarning`."""
+    for msg in (scene_warnings(scene) if ds is None else state_warnings(scene, ds)):
         warnings.warn(msg, PlausibilityWarning, stacklevel=3)

@@ -58,14 +58,21 @@ def _zero_friction(da) -> bool:
     return da.name.startswith("mu") and (v.size == 0 or np.abs(v).max() < ROUND_OFF)
 
 
-def _curves(ds, xname, xlabel, title, x=None):
-    names = [n for n in (SEED_CURVES if "a_tilde" in ds else PHYS_CURVES)
-             if n in ds and not _zero_friction(ds[n])]
+def _curve_names(ds) -> list[str]:
+    return [n for n in (SEED_CURVES if "a_tilde" in ds else PHYS_CURVES)
+            if n in ds and not _zero_friction(ds[n])]
+
+
+def _curves(ds, xname, xlabel, title, x=None, fig=None):
+    """Curves of the scalars against ``xname`` (drawn into ``fig``, a figure or subfigure,
+    when given)."""
+    names = _curve_names(ds)
     n = len(names)
     cols = min(3, n)
     rows = int(np.ceil(n / cols))
-    fig, axes = plt.subplots(rows, cols, figsize=(4.3 * cols, 3.4 * rows),
-                             constrained_layout=True, squeeze=False)
+    if fig is None:
+        fig = plt.figure(figsize=(4.3 * cols, 3.4 * rows), constrained_layout=True)
+    axes = fig.subplots(rows, cols, squeeze=False)
     x = np.asarray(ds[xname].values if x is None else x, float)
     logx = np.all(x > 0) and x.max() / x.min() > 20
     other = [d for d in ds[names[0]].dims if d != xname]
@@ -105,21 +112,69 @@ def plot_sweep(ds):
     return _curves(ds, dim, label, f"sweep over {', '.join(keys)}")
 
 
+#: at most this many steps of a path get a contact map under its curves
+PATH_MAPS = 6
+
+
 def plot_path(ds):
-    """Scalars along a load/unload path, against the prescribed control value."""
+    """Scalars along a load/unload path against the prescribed control value (arrows: step
+    order) and, under them, the contact map of each step (evenly chosen when there are more
+    than ``PATH_MAPS``) with its front coloured by G/Δγ where adhesive."""
     name = ds["control_value"].attrs.get("long_name", "control").replace("prescribed ", "")
     unit = ds["control_value"].attrs.get("units", "1")
-    fig = _curves(ds, "step", f"{LABELS.get(name, name)}"
-                  + (f" ({unit})" if unit not in ("1", "") and "(" not in LABELS.get(name, "")
-                     else ""), "load path (arrows: step order)", x=ds["control_value"].values)
-    for ax in fig.axes:
+    label = LABELS.get(name, name) + (f" ({unit})" if unit not in ("1", "")
+                                      and "(" not in LABELS.get(name, "") else "")
+    maps = "contact" in ds and "x" in ds.dims and "y" in ds.dims
+    cols = min(3, len(_curve_names(ds)))
+    rows = int(np.ceil(len(_curve_names(ds)) / cols))
+    fig = plt.figure(figsize=(4.3 * max(cols, 2), 3.4 * rows + (3.3 if maps else 0.0)),
+                     constrained_layout=True)
+    top, bottom = (fig.subfigures(2, 1, height_ratios=[3.4 * rows, 3.3]) if maps
+                   else (fig, None))
+    _curves(ds, "step", label, "load path (arrows: step order)",
+            x=ds["control_value"].values, fig=top)
+    for ax in top.axes:
         for line in ax.get_lines():
             xd, yd = line.get_xdata(), line.get_ydata()
             for i in range(len(xd) - 1):
                 if np.all(np.isfinite([xd[i], xd[i + 1], yd[i], yd[i + 1]])):
                     ax.annotate("", (xd[i + 1], yd[i + 1]), (xd[i], yd[i]),
                                 arrowprops=dict(arrowstyle="->", color=line.get_color()))
+    if maps:
+        _step_maps(bottom, ds, label)
     return fig
+
+
+def _step_maps(fig, ds, label):
+    """A row of contact maps, one per chosen step (title: step, control value, area)."""
+    n = ds.sizes["step"]
+    steps = np.unique(np.linspace(0, n - 1, min(n, PATH_MAPS)).round().astype(int))
+    axes = fig.subplots(1, len(steps), squeeze=False)[0]
+    seed = "pressure_tilde" in ds
+    scale = 1.0 if seed else 1e3
+    x, y = ds["x"].values * scale, ds["y"].values * scale
+    ext = (x[0], x[-1], y[0], y[-1])
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    sc = None
+    for ax, k in zip(axes, steps, strict=True):
+        st = ds.isel(step=int(k))
+        ax.imshow(st["contact"].values.astype(bool).T, origin="lower", extent=ext,
+                  cmap="Greys", vmin=0, vmax=1.6, aspect="equal")
+        if "G_front" in st:
+            G = st["G_front"].values
+            ok = np.isfinite(G)
+            if ok.any():
+                sc = ax.scatter(X[ok], Y[ok], c=np.clip(G[ok], 0.0, 2.0), s=1.5,
+                                marker="s", cmap="coolwarm", vmin=0.0, vmax=2.0)
+        frac = (f", area {float(st['area_fraction']):.3f}" if "area_fraction" in st else "")
+        status = f"\n{st['status'].item()}" if "status" in st else ""
+        ax.set_title(f"step {int(k)}: {float(st['control_value']):.4g}{frac}{status}",
+                     fontsize=8)
+        ax.set_xticks([])
+        ax.set_yticks([])
+    if sc is not None:
+        fig.colorbar(sc, ax=list(axes), label="G/Δγ on the front", shrink=0.8)
+    fig.suptitle(f"contact of each step (x to the right; control: {label})", fontsize=9)
 
 
 def _cut_along(field_, i0, j0, vx, vy):

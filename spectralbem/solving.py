@@ -274,7 +274,7 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
 
     from .adhesive import solve_adhesive
     from .contact import solve_contact
-    from .front import front_outputs
+    from .front import front_outputs, small_patch_diameter
 
     op = _operator(scene)
     cell, h = scene.cell, scene.heights
@@ -311,16 +311,19 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
                 # of −∮(G − Δγ)(n·v̂)ds, that of G1 − G2)
                 mu_a = quotient(fo["G1"] - fo["G2"], 0.0, abs(fo["G1"]) + abs(fo["G2"]))
             sc.update(G1=fo["G1"], G2=fo["G2"], mu_adhesive=mu_a,
-                      front_length=fo["front_length"])
+                      front_length=fo["front_length"],
+                      small_patch_diameter=small_patch_diameter(
+                          mask, scene.a0, (cell.hx, cell.hy)))
             fields["G_front"] = fo["G_map"]
         elif status in ("detached", "full_contact"):  # no front (the 1D method's values)
             sc.update(G1=0.0, G2=0.0, mu_adhesive=0.0, front_length=0.0,
-                      balanced_fraction=1.0, front_residual=0.0)
+                      balanced_fraction=1.0, front_residual=0.0, small_patch_diameter=np.nan)
             if status == "detached":
                 p, mask, u = np.zeros(cell.shape), np.zeros(cell.shape, bool), np.zeros(
                     cell.shape)
         else:
-            sc.update(G1=np.nan, G2=np.nan, mu_adhesive=np.nan, front_length=np.nan)
+            sc.update(G1=np.nan, G2=np.nan, mu_adhesive=np.nan, front_length=np.nan,
+                      small_patch_diameter=np.nan)
         diag = {"a0": r.a0, "edge_shift": r.edge_shift,
                 "method": "front-layer energy balance, sub-cell front",
                 "history": r.history[-20:]}
@@ -468,14 +471,17 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
                                         >= PROGRESS_CELLS):
             bar = tqdm(desc="front" if scene.adhesive else "contact", unit="it",
                        position=int(len(steps) > 1), leave=False)
-    for v in it:
-        if bar is not None:
-            bar.reset()
-        ds, state = _solve_one(scene.at_step(v), state,
-                               None if bar is None else _bar_progress(bar))
-        out.append(ds)
-    if bar is not None:
-        bar.close()
+    try:
+        for v in it:
+            if bar is not None:
+                bar.reset()
+            ds, state = _solve_one(scene.at_step(v), state,
+                                   None if bar is None else _bar_progress(bar))
+            out.append(ds)
+    finally:  # closed before anything else is printed (Ctrl-C included)
+        for b in (bar, it):
+            if hasattr(b, "close"):
+                b.close()
     if len(out) == 1:
         ds = out[0]
     else:
@@ -507,4 +513,5 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
         scene=json.dumps(scene.spec, sort_keys=True, default=str),
         conventions="spectralbem.conventions: SI units; u into the slab, p compressive "
                     "positive; seed Fourier convention (Im E < 0 for ω > 0)")
+    warn(scene, ds)
     return cf_attributes(ds)

@@ -132,6 +132,23 @@ def test_scene_datasets_round_trip_and_plot(results, kind, tmp_path):
     if kind == "adhesive_grid":
         assert "G_front" in ds and np.isfinite(ds.G_front.values).any()
         assert "local G/Δγ on the front" in {ax.get_ylabel() for ax in fig.axes}
+    if kind == "path":  # a contact map per step under the curves, titled with its load
+        titles = [ax.get_title() for ax in fig.axes if ax.get_title().startswith("step")]
+        assert [t.split(":")[0] for t in titles] == ["step 0", "step 1"], titles
+        assert "2000" in titles[0] and str(ds.status.values[1]) in titles[1]
+
+
+def test_plot_step_of_a_path(results, tmp_path, capsys):
+    """``spectralbem plot --step K`` draws step K of a path as a state; a step outside the
+    path or a dataset without steps is refused naming --step and the allowed range."""
+    path = write_dataset(results["path"], tmp_path / "p.nc")
+    assert cli.main(["plot", str(path), "--step", "-1", "-o", str(tmp_path / "s.png")]) == 0
+    assert (tmp_path / "s.png").stat().st_size > 10_000
+    assert cli.main(["plot", str(path), "--step", "2"]) == 1
+    assert "--step: 2 is outside the path's steps [0, 1]" in capsys.readouterr().err
+    grid = write_dataset(results["grid"], tmp_path / "g.nc")
+    assert cli.main(["plot", str(grid), "--step", "0"]) == 1
+    assert "not a path" in capsys.readouterr().err
 
 
 def test_sweep_plot(tmp_path):
@@ -393,3 +410,32 @@ def test_state_figure_has_title_block_diverging_pressure_and_cut():
     assert {"pressure distribution", "surface power spectrum (radial mean)",
             "release rate along the front"} <= titles
     plt.close(fig)
+
+
+def test_ctrl_c_during_a_single_solve(tmp_path):
+    """Ctrl-C (SIGINT to the process group, as a terminal sends it) while the adhesive front
+    of a single path step iterates: the progress bars are closed first, then one line and
+    exit code 130 within a few seconds; no traceback, no output file."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "c.nc"
+    cmd = [sys.executable, "-m", "spectralbem.cli", "run", str(CASES / "jkr_sphere.toml"),
+           "--set", "grid.Nx=256", "--set", "grid.Ny=256", "--set", "adhesion.a0=4e-6",
+           "--set", "control.mean_pressure=[2e3, 1e3, 500.0]", "-o", str(out)]
+    proc = subprocess.Popen(cmd, start_new_session=True, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, env={**os.environ, "COLUMNS": "120"})
+    seen, t0 = b"", time.time()
+    while b"front:" not in seen and time.time() - t0 < 120:  # the solve is running
+        seen += os.read(proc.stderr.fileno(), 4096)
+    os.killpg(proc.pid, signal.SIGINT)
+    t = time.time()
+    _, err = proc.communicate(timeout=60)
+    err = (seen + err).decode()
+    assert proc.returncode == 130, err[-2000:]
+    assert time.time() - t < 10.0  # a prompt exit (measured 0.2-0.5 s)
+    assert err.endswith("spectralbem run: interrupted\n") and "Traceback" not in err
+    assert not out.exists()

@@ -74,6 +74,49 @@ def test_a0_large_against_the_cut_off_is_named():
                for m in scene_warnings(load_scene(CASES / "rough_load_unload.toml")))
 
 
+def test_small_patch_diameter_is_the_area_weighted_tenth():
+    """Discs of radius 3, 6 and 12 cells (areas 9 : 36 : 144): the smallest holds 4.8 % of
+    the area, the two smaller 24 %, so the diameter below which a tenth lies is the middle
+    disc's (12 cells, to its pixel count); a patch thinner than a0 is not counted."""
+    from spectralbem.front import small_patch_diameter
+
+    i, j = np.meshgrid(np.arange(128), np.arange(128), indexing="ij")
+    mask = np.zeros((128, 128), bool)
+    for (ci, cj), r in (((20, 20), 3), ((60, 20), 6), ((64, 80), 12)):
+        mask |= (i - ci) ** 2 + (j - cj) ** 2 <= r * r
+    d = small_patch_diameter(mask, 1.0, (1.0, 1.0))
+    assert d == pytest.approx(12.0, rel=0.03)
+    mask[100:102, 90:127] = True  # a strip 2 cells wide: unresolved for a0 = 2 cells
+    assert small_patch_diameter(mask, 2.0, (1.0, 1.0)) == pytest.approx(d, rel=1e-12)
+    assert np.isnan(small_patch_diameter(np.zeros((8, 8), bool), 1.0, (1.0, 1.0)))
+
+
+@pytest.mark.parametrize("a0, warned", [(3.2e-5, True), (1.6e-5, False)])
+def test_a0_large_against_the_patches_found_is_named(a0, warned, tmp_path, capsys):
+    """After the solve: the JKR sphere at 64² holds one disc of diameter 0.23-0.30 mm, a0 =
+    32 µm is 0.136 of it on the unloading step (warned, named, printed by ``run``); a0 =
+    16 µm (0.07) is not warned."""
+    import spectralbem as sb
+    from spectralbem.plausibility import state_warnings
+
+    over = {"grid.Nx": 64, "grid.Ny": 64, "adhesion.a0": a0,
+            "control.mean_pressure": [2e3, 500.0]}
+    sc = load_scene(CASES / "jkr_sphere.toml", overrides=over)
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        ds = sb.solve(sc)
+    d = ds["small_patch_diameter"].values
+    assert np.all((d > 2.0e-4) & (d < 3.2e-4)), d
+    msgs = state_warnings(sc, ds)
+    assert [str(w.message) for w in rec if w.category is PlausibilityWarning] == msgs
+    assert bool(msgs) is warned
+    if warned:
+        assert "adhesion.a0: 3.2e-05 m is 0.136 of the small contact patches" in msgs[0]
+        assert cli.main(["run", str(CASES / "jkr_sphere.toml"), "-o", str(tmp_path / "j.nc"),
+                         "-q"] + [f"--set={k}={v}" for k, v in over.items()]) == 0
+        assert "warning: adhesion.a0: 3.2e-05 m is 0.136" in capsys.readouterr().err
+
+
 def test_seed_scenes_are_not_checked():
     assert scene_warnings(load_scene(CASES / "seed_sinusoid_1d.toml")) == []
 

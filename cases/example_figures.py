@@ -7,7 +7,7 @@ Run by ``make figures`` (about a minute on 2 cores); each figure is what
 * example_state_adhesive.png — an adhesive state with its front coloured by G/Δγ
   (cases/jkr_sphere.toml, 256², zero load);
 * example_path.png — a load/unload path with adhesion hysteresis
-  (cases/rough_load_unload.toml at 128²);
+  (cases/rough_convergence.toml at 128², loads 1e4, 3e4, 1e4, 3e3 Pa);
 * example_sweep.png — μ and the contact area against the sliding speed
   (cases/rubber_rough.toml at 64², 9 speeds, the local dask cluster);
 * example_profile_1d.png — the seed's 1D method (cases/seed_sinusoid_1d.toml).
@@ -56,7 +56,8 @@ FIGURES = {
     "state_rough": lambda: sb.solve(_scene("rubber_rough", **{"grid.Nx": 128,
                                                               "grid.Ny": 128})),
     "state_adhesive": lambda: sb.solve(_scene("jkr_sphere", **{"control.mean_pressure": 0.0})),
-    "path": lambda: sb.solve(_scene("rough_load_unload", **{"grid.Nx": 128, "grid.Ny": 128})),
+    "path": lambda: sb.solve(_scene("rough_convergence", **{
+        "grid.Nx": 128, "grid.Ny": 128, "control.mean_pressure": [1e4, 3e4, 1e4, 3e3]})),
     "sweep": _sweep,
     "profile_1d": lambda: sb.solve(_scene("seed_sinusoid_1d")),
 }

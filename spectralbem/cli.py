@@ -246,12 +246,21 @@ def build_parser() -> argparse.ArgumentParser:
     return ap
 
 
+def _close_bars() -> None:
+    """Close progress bars still open (an interrupt inside a bar's constructor leaves one
+    the solver could not close), so that nothing is printed after the last line."""
+    mod = sys.modules.get("tqdm")
+    for bar in list(getattr(getattr(mod, "tqdm", None), "_instances", ())):
+        bar.close()
+
+
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     args.argv = list(sys.argv[1:] if argv is None else argv)
     try:
         return args.func(args)
     except KeyboardInterrupt:
+        _close_bars()
         print(f"spectralbem {args.command}: interrupted", file=sys.stderr)
         return 130
     except Exception as exc:  # a one-line reason (scene problems: one per line), non-zero exit

@@ -76,6 +76,10 @@ def _curves(ds, xname, xlabel, title, x=None, fig=None):
     x = np.asarray(ds[xname].values if x is None else x, float)
     logx = np.all(x > 0) and x.max() / x.min() > 20
     other = [d for d in ds[names[0]].dims if d != xname]
+    bad = None
+    if "status" in ds and set(ds["status"].dims) == {xname, *other}:
+        st = ds["status"].transpose(xname, *other).values.astype(str).reshape(len(x), -1)
+        bad = ~np.isin(st, VERIFIED)
     for ax, name in zip(axes.flat, names, strict=False):
         da = ds[name]
         if other:
@@ -85,7 +89,11 @@ def _curves(ds, xname, xlabel, title, x=None, fig=None):
                   if len(other) == 1 and other[0] in ds.coords else [None] * y.shape[1])
         for j in range(y.shape[1]):
             ax.plot(x, y[:, j], "o-", ms=3, label=labels[j])
-        if labels[0] is not None and ax is axes.flat[0]:
+            if bad is not None and bad[:, j].any():  # values of states not verified
+                ax.plot(x[bad[:, j]], y[bad[:, j], j], "x", ms=8, color="C3",
+                        label=NOT_VERIFIED if j == 0 else None)
+        if ax is axes.flat[0] and (labels[0] is not None or (bad is not None
+                                                             and bad.any())):
             ax.legend(fontsize=8)
         ax.set_xlabel(xlabel)
         ax.set_ylabel(LABELS.get(name, name))
@@ -111,6 +119,10 @@ def plot_sweep(ds):
     label = f"{keys[0]}" + (f" ({unit})" if unit not in ("1", "") else "")
     return _curves(ds, dim, label, f"sweep over {', '.join(keys)}")
 
+
+#: statuses of verified states; points of the others are crossed out in red
+VERIFIED = ("partial", "full_contact", "detached")
+NOT_VERIFIED = "not converged (unverified)"
 
 #: at most this many steps of a path get a contact map under its curves
 PATH_MAPS = 6

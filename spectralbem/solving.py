@@ -459,29 +459,29 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
     steps = scene.steps
     state = mask0
     out = []
-    it = steps
-    bar = None
-    if progress:
-        from tqdm import tqdm
+    it, bar, bars = steps, None, []
+    try:  # the bars are closed before anything else is printed (Ctrl-C included)
+        if progress:
+            from tqdm import tqdm
 
-        if len(steps) > 1:
-            it = tqdm(steps, desc="path", unit="step")
-        if scene.model == "grid2d" and (scene.adhesive
-                                        or scene.cell.shape[0] * scene.cell.shape[1]
-                                        >= PROGRESS_CELLS):
-            bar = tqdm(desc="front" if scene.adhesive else "contact", unit="it",
-                       position=int(len(steps) > 1), leave=False)
-    try:
+            if len(steps) > 1:
+                it = tqdm(steps, desc="path", unit="step")
+                bars.append(it)
+            if scene.model == "grid2d" and (scene.adhesive
+                                            or scene.cell.shape[0] * scene.cell.shape[1]
+                                            >= PROGRESS_CELLS):
+                bar = tqdm(desc="front" if scene.adhesive else "contact", unit="it",
+                           position=int(len(steps) > 1), leave=False)
+                bars.append(bar)
         for v in it:
             if bar is not None:
                 bar.reset()
             ds, state = _solve_one(scene.at_step(v), state,
                                    None if bar is None else _bar_progress(bar))
             out.append(ds)
-    finally:  # closed before anything else is printed (Ctrl-C included)
-        for b in (bar, it):
-            if hasattr(b, "close"):
-                b.close()
+    finally:
+        for b in reversed(bars):
+            b.close()
     if len(out) == 1:
         ds = out[0]
     else:

@@ -439,3 +439,19 @@ def test_ctrl_c_during_a_single_solve(tmp_path):
     assert time.time() - t < 10.0  # a prompt exit (measured 0.2-0.5 s)
     assert err.endswith("spectralbem run: interrupted\n") and "Traceback" not in err
     assert not out.exists()
+
+
+def test_unverified_points_are_crossed_out(results):
+    """A path or sweep point whose state was not verified (status not partial,
+    full_contact or detached) is crossed out in red, with a legend entry saying so."""
+    from spectralbem.plotting import NOT_VERIFIED
+
+    ds = results["path"].copy(deep=True)
+    fig = plot_dataset(ds)
+    assert all(ax.get_legend() is None for ax in fig.axes)
+    ds["status"].values[1] = "not_converged"
+    fig = plot_dataset(ds)
+    first = fig.axes[0]
+    assert [t.get_text() for t in first.get_legend().get_texts()] == [NOT_VERIFIED]
+    crosses = [ln for ln in first.get_lines() if ln.get_marker() == "x"]
+    assert len(crosses) == 1 and list(crosses[0].get_xdata()) == [500.0]

@@ -91,6 +91,7 @@ def _run(args) -> int:
     from .io import STATUS_MEANING, cf_attributes, write_dataset
     from .plausibility import PlausibilityWarning, state_warnings
     from .scenes import load_scene, solve
+    from .schema import SceneError
 
     out = Path(args.output)
     _check_output(out)  # before any heavy work
@@ -103,7 +104,11 @@ def _run(args) -> int:
     ds.attrs["wall_time_s"] = time.perf_counter() - t
     cf_attributes(ds, history=_history(args.argv))
     write_dataset(ds, out)
-    for m in state_warnings(scene, ds):
+    late = state_warnings(scene, ds)  # known only after the solve (the patches found)
+    if late and args.strict:  # the dataset is kept; the command fails
+        raise SceneError([f"implausible (--strict, dataset written to {out}): " + m
+                          for m in late])
+    for m in late:
         print(f"warning: {m}", file=sys.stderr)
     status = ds["status"].values.ravel()
     seen = dict.fromkeys(str(s) for s in status)

@@ -115,6 +115,11 @@ def test_a0_large_against_the_patches_found_is_named(a0, warned, tmp_path, capsy
         assert cli.main(["run", str(CASES / "jkr_sphere.toml"), "-o", str(tmp_path / "j.nc"),
                          "-q"] + [f"--set={k}={v}" for k, v in over.items()]) == 0
         assert "warning: adhesion.a0: 3.2e-05 m is 0.136" in capsys.readouterr().err
+        out = tmp_path / "s.nc"
+        assert cli.main(["run", str(CASES / "jkr_sphere.toml"), "-o", str(out), "-q",
+                         "--strict"] + [f"--set={k}={v}" for k, v in over.items()]) == 1
+        assert (f"implausible (--strict, dataset written to {out}): adhesion.a0: 3.2e-05 m "
+                "is 0.136") in capsys.readouterr().err and out.exists()
 
 
 def test_seed_scenes_are_not_checked():

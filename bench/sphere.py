@@ -87,7 +87,7 @@ def run(n: int = 512, sigma: float | None = None):
 
 
 def sig_label(sigma):
-    return "default (6, ≥ 0.23 r)" if sigma is None else f"{sigma:g} fixed"
+    return "default (1.5 a0, ≥ 0.23 r)" if sigma is None else f"{sigma:g} fixed"
 
 
 def main():

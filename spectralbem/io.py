@@ -51,7 +51,7 @@ SCALARS = {
     "small_patch_diameter": ("m", "small-patch diameter",
                              "equivalent diameter of the resolved contact patches below "
                              "which a tenth of their area lies (a0 should be under a tenth "
-                             "of it)"),
+                             "of it); 0 when detached"),
     "balanced_fraction": ("1", "balanced fraction",
                           "fraction of the resolved front balanced within front_tol"),
     "front_residual": ("1", "front residual (cells)",

@@ -109,7 +109,7 @@ def state_warnings(scene, ds) -> list[str]:
     if "small_patch_diameter" not in ds or not scene.adhesive:
         return []
     d = np.atleast_1d(np.asarray(ds["small_patch_diameter"].values, float))
-    bad = np.flatnonzero(np.isfinite(d) & (scene.a0 > A0_OVER_PATCH * d))
+    bad = np.flatnonzero(np.isfinite(d) & (d > 0) & (scene.a0 > A0_OVER_PATCH * d))
     if bad.size == 0:
         return []
     k = int(bad[np.argmin(d[bad])])

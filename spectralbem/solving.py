@@ -317,7 +317,9 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
             fields["G_front"] = fo["G_map"]
         elif status in ("detached", "full_contact"):  # no front (the 1D method's values)
             sc.update(G1=0.0, G2=0.0, mu_adhesive=0.0, front_length=0.0,
-                      balanced_fraction=1.0, front_residual=0.0, small_patch_diameter=np.nan)
+                      balanced_fraction=1.0, front_residual=0.0,
+                      small_patch_diameter=0.0 if status == "detached" else
+                      small_patch_diameter(mask, scene.a0, (cell.hx, cell.hy)))
             if status == "detached":
                 p, mask, u = np.zeros(cell.shape), np.zeros(cell.shape, bool), np.zeros(
                     cell.shape)

@@ -358,3 +358,35 @@ def test_predictor_and_hybrid_criteria_on_the_jkr_sphere():
     assert griffith_radius(res, cell) == pytest.approx(aJ, rel=0.02)
     with pytest.raises(ValueError, match="criterion"):
         solve_adhesive(op, h, w, cell.hx, mean_pressure=0.0, criterion="vcct")
+
+
+@pytest.mark.parametrize("delta, sliver_stale", [(0.3, True), (1.0, False)])
+def test_stale_pins(delta, sliver_stale):
+    """A pin (a cell load control closed again) is stale when the cell's opening leaves a
+    gap and its balance opens it.  y-invariant elastic sinusoid, a contact strip |x| < 0.6
+    and a 3-cell sliver at x = 2, both pinned on their inner front: at Δ = 0.3 the sliver is
+    pulled (p ≈ −10) and its balance lies beyond the band (stale, released) while the
+    strip's edges balance inside (kept); at Δ = 1 the strip's edges would interpenetrate if
+    opened (kept whatever the balance says) and the sliver's balance holds it (kept)."""
+    from spectralbem.adhesive import _blocked, _offsets, _stale_pins
+    from spectralbem.criterion import front_cells, front_tests
+    from spectralbem.masked import solve_masked
+
+    cell = Cell(2 * np.pi, 2 * np.pi / 512 * 2, 512, 2)
+    h = sinusoid(cell, 1.0)
+    x = np.repeat(((cell.x + np.pi) % (2 * np.pi) - np.pi)[:, None], 2, axis=1)
+    strip, sliver = np.abs(x) < 0.6, (x > 2.0) & (x < 2.0 + 2.5 * cell.hx)
+    mask = strip | sliver
+    w = h - h.max() + delta
+    op = SpectralOperator(cell, Elastic(1.0, 0.0))
+    p = solve_masked(op, mask, w, rtol=1e-12).field
+    ft = front_tests(op, w, mask, p, np.pi * GAMMA, cell.hx, rtol=1e-12)
+    outer, inner = front_cells(mask)
+    s_out, s_in = _offsets(ft.F_close, ft.F_open, outer, inner, cell.hx, True)
+    pinned = inner & mask
+    assert (pinned & sliver).sum() == 4 and (pinned & strip).sum() == 4
+    stale = _stale_pins(ft, mask, s_out, s_in, w, pinned, cell.hx)
+    assert not (stale & strip).any()
+    assert (stale & sliver).sum() == (4 if sliver_stale else 0)
+    if delta == 1.0:  # the strip's edges are held by non-penetration, not by the balance
+        assert _blocked(ft, w)[pinned & strip].all() and np.all(s_in[pinned & strip] < 0)

@@ -148,17 +148,19 @@ def _moves(tests, mask, s_out, s_in, w, pinned, hmin, wide=None, tol=0.0):
     return add, remove
 
 
-#: times a cell's stale pin may be released once the front balances (:func:`_stale_pins`)
+#: times a cell's stale pin may be released (:func:`_stale_pins`)
 PIN_RELEASES = 1
 
 
 def _stale_pins(tests, mask, s_out, s_in, w, pinned, hmin):
-    """Pinned cells whose pin is stale on the balanced state: their opening now leaves a gap
-    (not blocked) and the balance, not held by the pin, opens them.  A pin is set when a
-    cell the criterion opened interpenetrates at a later Δ; on unloading the front passes
-    through such states, and without a release the pins stay closed as slivers under
-    tension (the rough 256² viscoelastic case: 175 pinned cells in 76 patches carried 40 %
-    of the friction force).  Released under a compressive mean pressure only: under a
+    """Pinned cells whose pin is stale: their opening now leaves a gap (not blocked) and the
+    balance, not held by the pin, opens them.  A pin is set when a cell the criterion opened
+    interpenetrates at a later Δ; on unloading the front passes through such states, and
+    without a release the pins stay closed as slivers under tension (the rough 256²
+    viscoelastic case: 175 pinned cells in 76 patches carried 40 % of the friction force).
+    The solver releases each cell's stale pin once (``PIN_RELEASES``; a cell pinned again
+    is a lattice bind and stays), at the iteration it turns stale, under a compressive
+    mean pressure only: under a
     tensile one, pins of patches without a free edge make the state unverified
     (:func:`_unverified_pins`), and beyond the pull-off releasing them only delays that."""
     if not pinned.any():
@@ -399,7 +401,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     last_change = np.zeros(cell.shape, bool)
     flaw_tried = False
     pinned = np.zeros(cell.shape, bool)  # opened, then closed again by non-penetration
-    released = np.zeros(cell.shape, np.int8)  # times each stale pin was released
+    released = np.zeros(cell.shape, np.int8)  # times each cell's stale pin was released
     solves = 0
     history = []
     status, message, converged = "not_converged", "", False
@@ -491,7 +493,11 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
             message = "layer test: " + tests.message
             break
         s_out, s_in = _offsets(tests.F_close, tests.F_open, outer, inner, a0, shift > 0)
-        s_in_free = s_in  # before the pins hold the edge (stale pins, below)
+        if criterion != "predictor" and p.mean() > 0 and pinned.any():
+            free = _stale_pins(tests, mask, s_out, s_in, w, pinned, hmin)
+            free &= released < PIN_RELEASES
+            released += free
+            pinned &= ~free  # these move with the balance from now on
         blocked = _blocked(tests, w)
         held = pinned | blocked
         # under a tensile load, pinned cells that could open now and whose balance lies
@@ -522,17 +528,6 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
             load_ok = abs(new_corr - corr) <= LOAD_TOL * float(np.abs(p).mean())
         if not res_out.any():  # no resolved patch: nothing verifies a balance
             rmax, frac = float("inf"), 0.0
-        if rmax <= front_tol and load_ok and criterion != "predictor" and p.mean() > 0:
-            free = _stale_pins(tests, mask, s_out, s_in_free, w, pinned, hmin)
-            free &= released < PIN_RELEASES
-            if free.any():  # opened again; a pin that interpenetrates returns
-                released += free
-                pinned &= ~free
-                mask &= ~free
-                last_change = free
-                opened |= free
-                tests = res_out = None
-                continue
         if (rmax <= front_tol and load_ok) or criterion == "predictor":
             converged = status_ok = rmax <= front_tol
             status = "partial" if status_ok else "not_converged"

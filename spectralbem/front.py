@@ -98,14 +98,18 @@ def front_outputs(op, r, dgamma) -> dict:
     s = np.clip(np.where(ok & np.isfinite(r.offset_out), r.offset_out, 0.0), -r.a0, r.a0)
     area = float(r.mask.sum() * cell.cell_area + np.sum(s * ds))
     dg = np.broadcast_to(np.asarray(dgamma, float), cell.shape)
-    length = float(np.sum(ds[ok & np.isfinite(t.dLP_rate)]))
+    edge = ok & np.isfinite(t.dLP_rate)
+    length = float(np.sum(ds[edge]))
     if r.crack_tips is not None:  # edges held by contact are no crack tips
         ok &= r.crack_tips
     G, *G1G2 = release_rates(op, t, ok, dgamma, ds)
     ok &= np.isfinite(G)
-    if r.crack_tips is not None and length > 0 and not ok.any():
-        # every edge held by contact (Γ → 0: an adhesiveless contact): no crack tip
-        G1G2 = [0.0, 0.0]
+    if r.crack_tips is not None:
+        # a side (trailing, leading) whose every edge is held by contact has no crack tip:
+        # G = 0 there, as at an adhesiveless edge (Γ → 0: both sides)
+        cols = list(t.colour_map) * (2 if len(t.colour_map) == 1 else 1)
+        G1G2 = [0.0 if (edge & col).any() and not (ok & col).any() else g
+                for g, col in zip(G1G2, cols[:2], strict=True)]
     vhat = sliding_direction(op)
     nv = normal[0] * vhat[0] + normal[1] * vhat[1]
     release = G - dg if np.ndim(dgamma) == 0 else G

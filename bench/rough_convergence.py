@@ -69,7 +69,9 @@ def run_one(n: int, material: str, a0: float, sigma: float | None) -> dict:
         row["mean_gap"] = float(st["gap"].mean())
         row.update(status=str(st["status"].values), iterations=int(st["iterations"]),
                    balanced_fraction=float(st["balanced_fraction"]),
-                   mean_pressure=float(st["mean_pressure"]))
+                   mean_pressure=float(st["mean_pressure"]),
+                   unresolved_patches=int(st["unresolved_patches"]),
+                   message=str(st["solver_message"].values))
         steps.append(row)
     hyst = steps[2]["area_fraction"] / steps[0]["area_fraction"] - 1.0
     return dict(N=n, material=material, a0=a0, sigma=sigma, cpu=cpu, steps=steps,
@@ -146,15 +148,55 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
                     vals = [r["steps"][k][key] for r in rs]
                     if max(abs(v) for v in vals) < 1e-12:  # zero to round-off (elastic μ)
                         continue
+                    if not all(_verified(r, k) for r in rs[-3:]):
+                        lines.append(f"| {key} ({name}) | unverified state | | "
+                                     + " | ".join("" for _ in rs) + " |")
+                        continue
                     p, finf, errs = richardson(vals)
                     lines.append(f"| {key} ({name}) | {p:.2f} | {finf:.5g} | " + " | ".join(
                         f"{e * 100:.2f} %" for e in errs) + " |")
-            p, finf, errs = richardson([r["hysteresis"] for r in rs])
-            lines.append(f"| hysteresis | {p:.2f} | {finf:.4g} | " + " | ".join(
-                f"{e * 100:.1f} %" for e in errs) + " |")
+            if all(_verified(r, k) for r in rs[-3:] for k in (0, 2)):
+                p, finf, errs = richardson([r["hysteresis"] for r in rs])
+                lines.append(f"| hysteresis | {p:.2f} | {finf:.4g} | " + " | ".join(
+                    f"{e * 100:.1f} %" for e in errs) + " |")
             lines.append("")
+        lines += _pair_table(rs)
     lines += lengths_report(scans)
     path.write_text("\n".join(lines) + "\n")
+
+
+def _verified(run: dict, k: int) -> bool:
+    return run["steps"][k]["status"] in ("partial", "full_contact", "detached")
+
+
+#: the quantities compared between 256² and 512² and the relative tolerance each must meet
+PAIR = (("area_fraction", 0.02), ("mu", 0.02), ("G1", 0.05), ("G2", 0.05),
+        ("mu_adhesive", 0.05))
+
+
+def _pair_table(rs: list) -> list:
+    """The relative change of each quantity from 256² to 512² against its tolerance."""
+    by_n = {r["N"]: r for r in rs}
+    if 256 not in by_n or 512 not in by_n:
+        return []
+    a, b = by_n[256], by_n[512]
+    lines = ["256² against 512² (relative change; the tolerance after the slash):", "",
+             "| step | " + " | ".join(k for k, _ in PAIR) + " |",
+             "|---|" + "---|" * len(PAIR)]
+    for k, name in enumerate(("load 1e4", "load 3e4", "unload 1e4")):
+        cells = []
+        for key, tol in PAIR:
+            x, y = a["steps"][k][key], b["steps"][k][key]
+            if not (_verified(a, k) and _verified(b, k)):
+                cells.append("unverified")
+            elif max(abs(x), abs(y)) < 1e-12:
+                cells.append("0 (both)")
+            else:
+                d = abs(x / y - 1.0)
+                cells.append(f"{100 * d:.1f} % / {100 * tol:g} % "
+                             + ("holds" if d <= tol else "**fails**"))
+        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    return lines + [""]
 
 
 def lengths_report(scans: list) -> list:

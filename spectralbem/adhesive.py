@@ -61,6 +61,8 @@ OSCILLATION_FLIPS = 3
 #: this many consecutive iterations that move only oscillating cells end the solve
 OSCILLATION_RUN = 6
 
+__all__ = ["solve_adhesive", "AdhesiveResult"]
+
 
 @dataclass
 class AdhesiveResult:

@@ -32,6 +32,9 @@ from . import kernels
 from .masked import solve_masked
 from .spectral import SpectralOperator
 
+__all__ = ["solve_contact", "polonsky_keer", "active_set", "friction", "ContactResult",
+           "ContactError"]
+
 
 class ContactError(ValueError):
     """Invalid control parameter for a contact solve."""

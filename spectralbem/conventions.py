@@ -27,6 +27,8 @@ from __future__ import annotations
 
 import numpy as np
 
+__all__ = ["p_star", "gamma_from_dgamma", "dgamma_from_gamma"]
+
 
 def p_star(E0: float, nu: float, k: float, amplitude: float) -> float:
     """Full-contact pressure scale p* = E0* k Λ/2 (Westergaard), so p̃ = p/p*."""

@@ -31,6 +31,8 @@ import numpy as np
 
 from .contact import sliding_direction
 
+__all__ = ["front_outputs", "release_rates", "patch_labels", "small_patch_diameter"]
+
 
 def front_length_weights(normal, hx: float, hy: float) -> np.ndarray:
     """ds (m) of each outer front cell of a digital front with unit normal (nx, ny)."""

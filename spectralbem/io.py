@@ -69,6 +69,8 @@ FIELDS = {
 }
 STATUS = ("1", "status", "partial | full_contact | detached | unstable | not_converged")
 
+__all__ = ["read_dataset", "write_dataset", "write_heights", "cf_attributes", "DiskFullError"]
+
 
 def attrs(entry) -> dict:
     """``{"units", "long_name", "comment"}`` of a table entry (units, long name, comment)."""

@@ -23,6 +23,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+__all__ = ["Layer", "HalfSpace", "GluedLayer", "PressureLayer", "s_glued", "s_pressure",
+           "LayerError"]
+
 
 class LayerError(ValueError):
     """Invalid layer parameter."""

@@ -24,6 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
+__all__ = ["Material", "Elastic", "StandardLinearSolid", "Prony", "Tabulated", "MaterialError"]
+
 
 class MaterialError(ValueError):
     """Invalid material parameter (names the parameter, its value and the allowed range)."""

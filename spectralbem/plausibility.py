@@ -35,6 +35,8 @@ A0_OVER_CUTOFF = 0.1
 #: warning is given after the solve
 A0_OVER_PATCH = 0.1
 
+__all__ = ["scene_warnings", "state_warnings", "PlausibilityWarning"]
+
 
 class PlausibilityWarning(UserWarning):
     """A scene that is valid but implausible (see :func:`scene_warnings`)."""

@@ -27,6 +27,8 @@ LABELS = {"a_tilde": "ã", "e_tilde": "ẽ", "G1_over_dgamma": "G1/Δγ", "G2_ov
           "G2": "G2 (J/m²)", "mu_adhesive": "μ_a", "penetration": "Δ (m)",
           "mean_pressure": "p̄ (Pa)", "p_tilde": "p̃∞", "delta_tilde": "Δ̃"}
 
+__all__ = ["plot_dataset", "plot_contact", "plot_path", "plot_sweep", "plot_profile_1d"]
+
 
 def _kind(ds) -> str:
     if "sweep_keys" in ds.attrs:

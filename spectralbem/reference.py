@@ -10,9 +10,14 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
+__all__ = ["westergaard_a", "westergaard_delta", "westergaard_pressure", "johnson_p",
+           "johnson_delta", "johnson_a", "johnson_special_points", "johnson_G_asymmetric",
+           "visco_full_contact_pressure", "visco_full_contact_mu", "sls_ratio", "hertz_radius",
+           "hertz_penetration", "jkr_load", "jkr_penetration", "jkr_radius", "jkr_pulloff"]
+
+
 # ---------------------------------------------------------------------------------------------
 # Westergaard (1939): elastic adhesiveless sinusoid, docs/derivations.md §7
-
 
 def westergaard_a(p_tilde):
     """ã = 2 arcsin √p̃ (0 ≤ p̃ ≤ 1)."""

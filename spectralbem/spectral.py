@@ -31,6 +31,8 @@ from . import fft as _fft
 from .layers import HalfSpace, Layer
 from .materials import Material
 
+__all__ = ["Cell", "SpectralOperator", "GridError"]
+
 
 class GridError(ValueError):
     """Invalid periodic-cell parameter."""

@@ -15,6 +15,9 @@ import numpy as np
 
 from .spectral import Cell
 
+__all__ = ["sinusoid", "bisinusoid", "paraboloid", "self_affine", "from_npy", "read_heights",
+           "SurfaceError"]
+
 
 class SurfaceError(ValueError):
     """Invalid surface parameter or file."""

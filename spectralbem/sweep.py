@@ -64,6 +64,8 @@ from .sweep_parts import (  # noqa: F401  (SweepError is part of this module's i
 #: dimensions a point keeps (the path's steps); variables on any other dimension are fields
 POINT_DIMS = {"step"}
 
+__all__ = ["run_sweep", "parse_over", "SweepInterrupted"]
+
 
 class SweepInterrupted(KeyboardInterrupt):
     """Ctrl-C during a sweep: ``kept`` of ``total`` points are on disk."""

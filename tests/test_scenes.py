@@ -262,6 +262,18 @@ def test_user_guide_reference_is_current():
     assert gen.reference_markdown() in guide
 
 
+def test_api_page_is_current():
+    """docs/api.md is the public API that docs/generate_reference.py generates from the
+    modules' ``__all__`` (make docs): every listed name exists, and the page is current."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(
+        "generate_reference", CASES.parent / "docs" / "generate_reference.py")
+    gen = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(gen)
+    assert (CASES.parent / "docs" / "api.md").read_text() == gen.api_markdown() + "\n"
+
+
 def test_command_line_values_comma_lists_and_words():
     """``--set key=1e3,2e3`` is a list of numbers (a load path), as ``[1e3, 2e3]`` is; words
     and mixed items stay text, so the schema names them."""

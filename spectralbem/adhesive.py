@@ -162,9 +162,9 @@ def _stale_pins(tests, mask, s_out, s_in, w, pinned, hmin):
     viscoelastic case: 175 pinned cells in 76 patches carried 40 % of the friction force).
     The solver releases each cell's stale pin once (``PIN_RELEASES``; a cell pinned again
     is a lattice bind and stays), at the iteration it turns stale, under a compressive
-    mean pressure only: under a
-    tensile one, pins of patches without a free edge make the state unverified
-    (:func:`_unverified_pins`), and beyond the pull-off releasing them only delays that."""
+    mean pressure only: under a tensile one, pins of patches without a free edge make the
+    state unverified (:func:`_unverified_pins`), and beyond the pull-off releasing them
+    only delays that."""
     if not pinned.any():
         return pinned
     _, remove = _moves(tests, mask, s_out, s_in, w, np.zeros_like(pinned), hmin)

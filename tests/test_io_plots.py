@@ -430,7 +430,9 @@ def test_ctrl_c_during_a_single_solve(tmp_path):
                             stderr=subprocess.PIPE, env={**os.environ, "COLUMNS": "120"})
     seen, t0 = b"", time.time()
     while b"front:" not in seen and time.time() - t0 < 120:  # the solve is running
-        seen += os.read(proc.stderr.fileno(), 4096)
+        chunk = os.read(proc.stderr.fileno(), 4096)
+        assert chunk, "the run ended before its front iterations showed: " + seen.decode()
+        seen += chunk
     os.killpg(proc.pid, signal.SIGINT)
     t = time.time()
     _, err = proc.communicate(timeout=60)

@@ -239,7 +239,7 @@ def lengths_report(scans: list) -> list:
 SCAN = ([(n, 1.0, None) for n in (128, 256, 512, 1024)]
         + [(n, m, None) for n in (256, 512) for m in (2.0, 4.0)]
         + [(n, n / 128, sig) for n in (256, 512) for sig in (0.75, 3.0)]
-        + [(1024, 8.0, None), (1024, 8.0, 3.0), (256, 1.0, 0.0)])
+        + [(1024, 8.0, None), (1024, 8.0, 3.0), (256, 1.0, 0.0), (256, 2.0, 0.0)])
 
 
 def main(argv=None):

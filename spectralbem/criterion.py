@@ -40,9 +40,9 @@ _CROSS = ndimage.generate_binary_structure(2, 1)
 #: along the front").  A physical length where a0 is (viscoelastic scenes), numerical with
 #: it in elastic ones (a0 of one cell: σ = 1.5 cells).  Measured on the rough surface of
 #: docs/rough_convergence.md (elastic, a0 = 7.8 µm): σ = 5.9, 11.7, 23.4 µm give areas
-#: 0.2791, 0.2724, 0.2624 at 256² and 0.2747, 0.2704, 0.2609 at 512² (the bias grows about
-#: linearly with σ); a viscoelastic state with σ of 1.5 cells ends ``not_converged`` at 256²
-#: (σ = 3 cells converges).
+#: 0.2791, 0.2724, 0.2624 at 256² and 0.2749, 0.2704, 0.2609 at 512² (the bias grows about
+#: linearly with σ); the viscoelastic state at 256² needs 320 front iterations with σ of
+#: 1.5 cells, 41 with 3 cells (docs/theory.md).
 FRONT_SMOOTHING = 1.5
 
 #: σ grows with the contact patch: σ = max(FRONT_SMOOTHING, SMOOTHING_PER_RADIUS · r) for a

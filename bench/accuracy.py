@@ -91,7 +91,7 @@ def jkr_point(n: int, sigma: float | None, tol: float, pulloff: bool = True,
     if pulloff:
         # the bracket (0.3 % of Pc after 7 steps) is part of the error; the midpoint is the
         # estimate
-        lo, hi = pulloff_bisection(op, h, w, cell, res.mask, **kw)
+        lo, hi = pulloff_bisection(op, h, w, cell, res.contact, **kw)
         err["pulloff"] = abs(0.5 * (lo + hi) - 1)
     return {"case": "jkr", "N": n, "cells_per_radius": aJ / cell.hx, "sigma": sigma,
             "tol": tol, "criterion": criterion, "status": res.status,

@@ -52,7 +52,7 @@ def masks(n: int):
     disc = np.hypot(X - n // 2 * cell.hx, Y - n // 2 * cell.hy) < 0.1
     h_disc = paraboloid(cell, 1.0)
     op = SpectralOperator(cell, Elastic(1.0, 0.0))
-    p, *_ = polonsky_keer(op, h_rough, mean_pressure=0.004 * 1.0, tol=1e-8)
+    p = polonsky_keer(op, h_rough, mean_pressure=0.004 * 1.0, tol=1e-8).pressure
     return cell, {"disc": (disc, h_disc, 0.1), "rough": (p > 0, h_rough, 1.0 / 32)}
 
 

@@ -80,9 +80,8 @@ def main():
         res = {}
         for rule in ("join", "descent"):
             t0 = time.process_time()
-            p, _, _, its, conv, msg, _ = polonsky_keer(ops[key], h, tol=1e-10, restart=rule,
-                                                       **control)
-            res[rule] = (p, its, conv, time.process_time() - t0)
+            r = polonsky_keer(ops[key], h, tol=1e-10, restart=rule, **control)
+            res[rule] = (r.pressure, r.iterations, r.converged, time.process_time() - t0)
         (pj, ij, cj, tj), (pd, id_, cd, td) = res["join"], res["descent"]
         if cj and cd:
             totals["join"] += ij

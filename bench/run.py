@@ -79,9 +79,9 @@ def run_ours(cell, h, p, tol, threads=1):
     op.apply(h)  # plans the transforms
     setup = clock() - t0
     t0 = clock()
-    p_, u, d, its, conv, msg, pairs = polonsky_keer(op, h, mean_pressure=p, tol=tol)
-    return dict(time=clock() - t0, setup=setup, p=p_, iterations=its,
-                converged=conv, pairs=pairs, message=msg)
+    r = polonsky_keer(op, h, mean_pressure=p, tol=tol)
+    return dict(time=clock() - t0, setup=setup, p=r.pressure, iterations=r.iterations,
+                converged=r.converged, pairs=r.fft_pairs, message=r.message)
 
 
 def run_tamaas(cell, h, p, tol):

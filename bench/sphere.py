@@ -77,10 +77,10 @@ def run(n: int = 512, sigma: float | None = None):
     wall = time.perf_counter() - t0
     solves = res.solves
     t_solve = bucket.get("solve_masked", 0.0)
-    a = np.sqrt(res.mask.sum() * cell.cell_area / np.pi)
-    row = dict(N=n, sigma=sigma, wall=wall, status=res.status, outer=res.outer_iterations,
+    a = np.sqrt(res.contact.sum() * cell.cell_area / np.pi)
+    row = dict(N=n, sigma=sigma, wall=wall, status=res.status, outer=res.iterations,
                solves=solves,
-               per_outer=solves / max(res.outer_iterations, 1), t_solve=t_solve,
+               per_outer=solves / max(res.iterations, 1), t_solve=t_solve,
                t_rest=wall - t_solve, radius_cells=a / cell.hx,
                radius_jkr_E0=ref.jkr_radius(0.0, 1.0, 1.0, w) / cell.hx, message=res.message)
     return row

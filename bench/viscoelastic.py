@@ -61,6 +61,7 @@ from spectralbem.contact import active_set, polonsky_keer, solve_contact  # noqa
 from spectralbem.layers import GluedLayer, HalfSpace, PressureLayer  # noqa: E402
 from spectralbem.materials import Elastic, StandardLinearSolid  # noqa: E402
 from spectralbem.spectral import SpectralOperator  # noqa: E402
+from spectralbem.state import Solution  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from run import fft_pair_seconds, surface, write_section  # noqa: E402
@@ -93,10 +94,10 @@ def timed(fn, runs):
 
 def candidates(h, visco):
     def relaxed_start():
-        p, *_rest, pairs = polonsky_keer(visco.relaxed_part(), h, mean_pressure=PBAR,
-                                         tol=newton.START_TOL)
-        r = newton.newton_contact(visco, h, mean_pressure=PBAR, tol=TOL, mask0=p > 0, p0=p)
-        return r[:8] + (r[8] + pairs,)
+        s = polonsky_keer(visco.relaxed_part(), h, mean_pressure=PBAR, tol=newton.START_TOL)
+        r = newton.newton_contact(visco, h, mean_pressure=PBAR, tol=TOL, mask0=s.contact,
+                                  p0=s.pressure)
+        return r._replace(fft_pairs=r.fft_pairs + s.fft_pairs)
 
     def splitting(maxit=60):
         """PK on C^E with the odd part lagged: p ← PK_E(h − C^O p)."""
@@ -107,16 +108,17 @@ def candidates(h, visco):
         while sweeps < maxit:
             sweeps += 1
             r = polonsky_keer(even, h - visco.apply_odd(p), mean_pressure=PBAR, tol=TOL, p0=p)
-            pairs += r[6] + 1
-            change = np.linalg.norm(r[0] - p) / np.linalg.norm(r[0])
-            p = r[0]
+            pairs += r.fft_pairs + 1
+            change = np.linalg.norm(r.pressure - p) / np.linalg.norm(r.pressure)
+            p = r.pressure
             if change < 1e-8:
                 ok = True
                 break
-        return p, None, r[2], p > 0, sweeps, ok, f"change {change:.1e}", sweeps, pairs
+        return Solution(p, None, r.penetration, p > 0, sweeps, ok, f"change {change:.1e}",
+                        sweeps, pairs)
 
     return {
-        "active set": lambda: active_set(visco, h, mean_pressure=PBAR, tol=TOL) + (np.nan,),
+        "active set": lambda: active_set(visco, h, mean_pressure=PBAR, tol=TOL),
         "splitting": splitting,
         "newton, exact": lambda: newton.newton_contact(visco, h, mean_pressure=PBAR, tol=TOL,
                                                        loose=TOL),
@@ -147,12 +149,14 @@ def run_size(n, runs):
         if name == "active set":
             ref = r
         row = dict(N=n, method=name, seconds=t, elastic_seconds=t_el, ratio=t / t_el,
-                   elastic_iterations=r_el[3], elastic_pairs=r_el[6], pair_ms=1e3 * pair,
-                   converged=bool(r[5]), products=int(r[4]), outer=int(r[7]),
-                   pairs=float(r[8]), area=float(np.mean(r[3])))
+                   elastic_iterations=r_el.iterations, elastic_pairs=r_el.fft_pairs,
+                   pair_ms=1e3 * pair, converged=bool(r.converged), products=int(r.iterations),
+                   outer=int(r.outer_iterations), pairs=float(r.fft_pairs),
+                   area=float(np.mean(r.contact)))
         if ref is not None and name != "active set":
-            row["set_diff"] = int(np.count_nonzero(ref[3] != r[3]))
-            row["p_rel"] = float(np.linalg.norm(ref[0] - r[0]) / np.linalg.norm(ref[0]))
+            row["set_diff"] = int(np.count_nonzero(ref.contact != r.contact))
+            row["p_rel"] = float(np.linalg.norm(ref.pressure - r.pressure)
+                                 / np.linalg.norm(ref.pressure))
         if name == "newton" and n <= 1024:
             row["peak_arrays"] = peak_arrays(cands[name], n)
         rows.append(row)
@@ -198,14 +202,15 @@ def robustness(n=128):
         t = time.process_time()
         res = solve_contact(op, h, tol=TOL, **kw)
         t_new = time.process_time() - t
-        row = dict(beta=beta, zeta=zeta, control=kind, layer=lay, area=float(ref[3].mean()),
-                   active_converged=bool(ref[5]), active_seconds=t_ref,
-                   active_products=int(ref[4]), converged=bool(res.converged),
+        row = dict(beta=beta, zeta=zeta, control=kind, layer=lay,
+                   area=float(ref.contact.mean()), active_converged=bool(ref.converged),
+                   active_seconds=t_ref, active_products=int(ref.iterations),
+                   converged=bool(res.converged),
                    method=res.method, seconds=t_new,
                    pairs=float(res.diagnostics.get("fft_pairs", np.nan)),
-                   set_diff=int(np.count_nonzero(ref[3] != res.mask)),
-                   p_rel=float(np.linalg.norm(ref[0] - res.pressure)
-                               / max(np.linalg.norm(ref[0]), 1e-300)))
+                   set_diff=int(np.count_nonzero(ref.contact != res.contact)),
+                   p_rel=float(np.linalg.norm(ref.pressure - res.pressure)
+                               / max(np.linalg.norm(ref.pressure), 1e-300)))
         rows.append(row)
         print(json.dumps(row), flush=True)
     return rows
@@ -257,11 +262,10 @@ def starts():
 
 def _start_row(row, op, h, kw, variants):
     for name, sym in variants.items():
-        p, *_rest, pairs = polonsky_keer(sym, h, tol=newton.START_TOL,
-                                         maxiter=newton.START_MAXITER, **kw)
-        r = newton.newton_contact(op, h, tol=TOL, mask0=p > 0, p0=p, **kw)
-        row[name] = dict(pairs=pairs + r[8], converged=bool(r[5]),
-                         start_area=float(np.mean(p > 0)), area=float(np.mean(r[3])))
+        s = polonsky_keer(sym, h, tol=newton.START_TOL, maxiter=newton.START_MAXITER, **kw)
+        r = newton.newton_contact(op, h, tol=TOL, mask0=s.contact, p0=s.pressure, **kw)
+        row[name] = dict(pairs=s.fft_pairs + r.fft_pairs, converged=bool(r.converged),
+                         start_area=float(np.mean(s.contact)), area=float(np.mean(r.contact)))
     print(json.dumps(row), flush=True)
     return row
 

@@ -23,11 +23,10 @@ again the state is ``full_contact``, if it grows the contact becomes partial.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
-from .contact import sliding_direction
+from .contact import friction, sliding_direction
+from .conventions import control
 from .criterion import (
     FRONT_SMOOTHING,
     SMOOTHING_PER_RADIUS,
@@ -47,6 +46,7 @@ from .front import (
 )
 from .masked import TRUE_RESIDUAL_MARGIN, solve_masked, solve_packed
 from .spectral import SpectralOperator
+from .state import AdhesiveState
 from .surfaces import check_heights
 
 #: default tolerance of the balance in position (cells): a resolved front point is balanced
@@ -61,36 +61,7 @@ OSCILLATION_FLIPS = 3
 #: this many consecutive iterations that move only oscillating cells end the solve
 OSCILLATION_RUN = 6
 
-__all__ = ["solve_adhesive", "AdhesiveResult"]
-
-
-@dataclass
-class AdhesiveResult:
-    """An adhesive state: the mask (the history variable), the pressure on it, the sub-cell
-    front and the verdict on its balance."""
-
-    pressure: np.ndarray
-    mask: np.ndarray
-    penetration: float
-    mean_pressure: float
-    tests: object  # the FrontTest of the final state
-    offset_out: np.ndarray  # balanced edge − mask edge on outer front cells (m)
-    outer_iterations: int
-    solves: int
-    converged: bool
-    status: str
-    message: str
-    history: list = field(default_factory=list)
-    a0: float = 0.0  # the advance width used: the one asked for (m)
-    unresolved_patches: int = 0  # contact patches too thin for a band of width a0
-    offset_in: np.ndarray | None = None  # the same on inner front cells (m)
-    # a0/2 in elastic scenes (the sharp-crack edge's nominal shift from the seed's l*:
-    # front.sharp_crack_offset), 0 otherwise (m)
-    edge_shift: float = 0.0
-    resolved: np.ndarray | None = None  # outer front cells of resolved patches
-    balanced_fraction: float = float("nan")  # resolved front cells balanced within front_tol
-    residual: float = float("nan")  # largest balance residual in position (cells)
-    crack_tips: np.ndarray | None = None  # resolved outer front cells not held by contact
+__all__ = ["solve_adhesive"]
 
 
 def _neighbour_mean(field_: np.ndarray, where: np.ndarray, at: np.ndarray) -> np.ndarray:
@@ -281,11 +252,7 @@ def _nucleation_flaw(op, h, mean_pressure, penetration, a0):
 
 
 def _check_inputs(cell, penetration, mean_pressure, dgamma, a0, criterion, front_tol):
-    if (penetration is None) == (mean_pressure is None):
-        raise ValueError("give exactly one of penetration and mean_pressure")
-    for name, v in (("penetration", penetration), ("mean_pressure", mean_pressure)):
-        if v is not None and not np.isfinite(v):
-            raise ValueError(f"{name} = {v!r} must be a finite number")
+    control(mean_pressure, penetration)
     dg = np.asarray(dgamma, dtype=float)
     if dg.ndim and dg.shape != cell.shape:
         raise ValueError(f"dgamma map has shape {dg.shape}, the grid is {cell.shape}")
@@ -354,7 +321,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
                    smoothing_per_radius: float = SMOOTHING_PER_RADIUS,
                    rtol: float = 1e-10, observables: dict | None = None,
                    criterion: str = "exact", front_tol: float = FRONT_TOL,
-                   flaw_radius: float | None = None, progress=None) -> AdhesiveResult:
+                   flaw_radius: float | None = None, progress=None) -> AdhesiveState:
     """Adhesive equilibrium under penetration or mean-pressure control.
 
     ``dgamma``: work of adhesion Δγ (J/m², scalar or per-cell map); ``a0``: advance width (m),
@@ -606,6 +573,13 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     nun = unresolved_patches(mask, a0, (cell.hx, cell.hy))
     if nun:
         message += f"; {nun} contact patches smaller than a disc of radius a0 (unresolved)"
-    return AdhesiveResult(p, mask, float(delta), pm, tests, s_out, it, solves,
-                          converged, status, message, history, a0, nun, s_in, shift,
-                          res_out, frac, rmax, tips)
+    u = op.apply(p)
+    gap = u - (h - hmax + delta)
+    gap[mask] = 0.0
+    return AdhesiveState(
+        pressure=p, displacement=u, gap=gap, contact=mask, penetration=float(delta),
+        mean_pressure=pm, status=status, iterations=it, converged=converged, message=message,
+        method="front-layer energy balance, sub-cell front", **friction(op, h, p, u),
+        tests=tests, offset_out=s_out, offset_in=s_in, solves=solves, history=history, a0=a0,
+        unresolved_patches=nun, edge_shift=shift, resolved=res_out, balanced_fraction=frac,
+        residual=rmax, crack_tips=tips)

@@ -10,9 +10,9 @@ adhesion: σ = 0 at ∂Ω).
   started from the elastic solution with the symmetric part of the kernel.  The LCP is uniquely
   solvable because P C P has a positive-definite symmetric part (docs/derivations.md §8).
 
-Outputs (:class:`ContactResult`): pressure p (Pa), displacement u (m, into the slab), gap g (m),
-mask, mean pressure p̄, penetration Δ (mean-level gauge for the half-space), contact area
-fraction, and the friction coefficient of seed Eq. (19) generalised to 2D::
+Outputs (:class:`~spectralbem.state.ContactState`): pressure p (Pa), displacement u (m, into
+the slab), gap g (m), contact mask, mean pressure p̄, penetration Δ (mean-level gauge for the
+half-space), status, and the friction coefficient of seed Eq. (19) generalised to 2D::
 
     μ = -(1/(A0 p̄)) ∫ p (v̂·∇h) d²x          (force component opposing the sliding)
     μ_⊥ = -(1/(A0 p̄)) ∫ p (v̂⊥·∇h) d²x       (lateral force, v̂⊥ = ẑ × v̂)
@@ -24,44 +24,20 @@ form (docs/derivations.md §5).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 
 import numpy as np
 
 from . import kernels
+from .conventions import control
 from .masked import solve_masked
 from .spectral import SpectralOperator
+from .state import ContactState, Solution, status_of
 
-__all__ = ["solve_contact", "polonsky_keer", "active_set", "friction", "ContactResult",
-           "ContactError"]
+__all__ = ["solve_contact", "polonsky_keer", "active_set", "friction", "ContactError"]
 
 
 class ContactError(ValueError):
     """Invalid control parameter for a contact solve."""
-
-
-@dataclass
-class ContactResult:
-    pressure: np.ndarray
-    displacement: np.ndarray
-    gap: np.ndarray
-    mask: np.ndarray
-    mean_pressure: float
-    penetration: float
-    area_fraction: float
-    mu: float
-    mu_lateral: float
-    mu_profile: float
-    mu_dissipation: float
-    iterations: int
-    converged: bool
-    message: str
-    method: str
-    diagnostics: dict = field(default_factory=dict)
-
-    @property
-    def full_contact(self) -> bool:
-        return bool(np.all(self.mask))
 
 
 def sliding_direction(op: SpectralOperator) -> np.ndarray:
@@ -105,18 +81,13 @@ def _check_controls(heights, op, mean_pressure, penetration):
         raise ContactError(f"heights have shape {h.shape}, the grid is {op.cell.shape}")
     if not np.all(np.isfinite(h)):
         raise ContactError("heights contain NaN or inf")
-    if (mean_pressure is None) == (penetration is None):
-        raise ContactError("give exactly one of mean_pressure (load control) and penetration")
-    if mean_pressure is not None:
-        mp = float(mean_pressure)
-        if not np.isfinite(mp) or mp <= 0:
-            raise ContactError(
-                f"mean_pressure = {mp!r} must be > 0 for adhesiveless contact (allowed (0, inf))")
-    if penetration is not None:
-        d = float(penetration)
-        if not np.isfinite(d):
-            raise ContactError(f"penetration = {penetration!r} must be finite")
-        check_penetration(op.layer, op.material.nu, h, [d])
+    name, v = control(mean_pressure, penetration, ContactError,
+                      {"mean_pressure": "(0, inf)"})
+    if name == "mean_pressure" and v <= 0:
+        raise ContactError(
+            f"mean_pressure = {v!r} must be > 0 for adhesiveless contact (allowed (0, inf))")
+    if name == "penetration":
+        check_penetration(op.layer, op.material.nu, h, [v])
     return h
 
 
@@ -261,7 +232,8 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         check_full = False
         full = _full_contact(op, h, mean_pressure, penetration)
         if np.all(full[0] >= 0):
-            return full[0], op.apply(full[0]), full[1], 0, True, "full contact", 2.0
+            return Solution(full[0], op.apply(full[0]), full[1], full[0] > 0, 0, True,
+                            "full contact", fft_pairs=2.0)
     if load:
         target = float(mean_pressure)
         w = (h - hmax).ravel()
@@ -329,8 +301,9 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             forwards += 1
             inverses += 1
             if np.all(full[0] >= 0):
-                return (full[0], op.apply(full[0]), full[1], it - 1, True, "full contact",
-                        0.5 * (forwards + inverses) + 1.0)
+                return Solution(full[0], op.apply(full[0]), full[1], full[0] > 0, it - 1,
+                                True, "full contact",
+                                fft_pairs=0.5 * (forwards + inverses) + 1.0)
         if idx.size == 0:
             if load or float(penetration) > 0:  # max w = Δ > 0: the bodies overlap
                 message = f"the contact set emptied at iteration {it} while the bodies overlap"
@@ -435,15 +408,16 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     p.put(idx, pc_cur)
     delta = gbar if load else float(penetration)
     pairs = 0.5 * (forwards + inverses)
-    return p.reshape(shape), u.reshape(shape).copy(), delta, it, converged, message, pairs
+    p = p.reshape(shape)
+    return Solution(p, u.reshape(shape).copy(), delta, p > 0, it, converged, message,
+                    fft_pairs=pairs)
 
 
-def untouched(cell, penetration) -> tuple:
-    """The state of a penetration Δ ≤ 0 (max w = Δ ≤ 0: p = 0 satisfies g ≥ 0): (p, u, Δ,
-    mask, iterations, converged, message)."""
+def untouched(cell, penetration) -> Solution:
+    """The state of a penetration Δ ≤ 0 (max w = Δ ≤ 0: p = 0 satisfies g ≥ 0)."""
     zero = np.zeros(cell.shape)
-    return (zero, zero.copy(), float(penetration), zero > 0, 0, True,
-            "no contact: the indenter does not reach the surface")
+    return Solution(zero, zero.copy(), float(penetration), zero > 0, 0, True,
+                    "no contact: the indenter does not reach the surface", fft_pairs=0.0)
 
 
 #: outer iterations after which the active set moves only its worst offender per side
@@ -454,7 +428,7 @@ def active_set(op: SpectralOperator, heights, *, mean_pressure=None, penetration
                tol: float = 1e-10, max_outer: int = 200, mask0=None, p0=None):
     """Active-set LCP solver with masked Krylov solves (any operator, used when non-symmetric).
 
-    Returns (p, u, delta, mask, iterations, converged, message, outer).
+    ``iterations`` counts the Krylov products, ``outer_iterations`` the set updates.
     """
     h = _check_controls(heights, op, mean_pressure, penetration)
     cell = op.cell
@@ -463,11 +437,11 @@ def active_set(op: SpectralOperator, heights, *, mean_pressure=None, penetration
     hrange = max(float(h.max() - h.min()), np.finfo(float).tiny)
     load = mean_pressure is not None
     if not load and float(penetration) <= 0:
-        return untouched(cell, penetration) + (0,)
+        return untouched(cell, penetration)
     if mask0 is None:
         # start from the solution of the relaxed elastic slab
-        p_e, *_ = polonsky_keer(op.relaxed_part(), h, mean_pressure=mean_pressure,
-                                penetration=penetration, tol=1e-6, maxiter=2000)
+        p_e = polonsky_keer(op.relaxed_part(), h, mean_pressure=mean_pressure,
+                            penetration=penetration, tol=1e-6, maxiter=2000).pressure
         mask = p_e > 0
         p = p_e
     else:
@@ -490,7 +464,8 @@ def active_set(op: SpectralOperator, heights, *, mean_pressure=None, penetration
                 if np.all(p >= 0):
                     converged, message = True, "full contact"
                     u = op.apply(p)
-                    return p, u, delta, mask, iterations, converged, message, outer
+                    return Solution(p, u, delta, mask, iterations, converged, message,
+                                    outer)
                 mask = p > 0
                 continue
         if load:
@@ -547,12 +522,12 @@ def active_set(op: SpectralOperator, heights, *, mean_pressure=None, penetration
     else:
         message = f"active set not converged in {max_outer} outer iterations"
     u = op.apply(p)
-    return p, u, delta, mask, iterations, converged, message, outer
+    return Solution(p, u, delta, mask, iterations, converged, message, outer)
 
 
 def solve_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetration=None,
                   tol: float = 1e-10, maxiter: int = 10000, p0=None,
-                  mask0=None, method: str = "auto", progress=None) -> ContactResult:
+                  mask0=None, method: str = "auto", progress=None) -> ContactState:
     """Adhesiveless contact of the rigid profile ``heights`` under load or penetration control
     (the solver validates the inputs before any work).
 
@@ -567,44 +542,40 @@ def solve_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     if method not in ("auto", "active-set"):
         raise ContactError(f"method = {method!r}; allowed: 'auto', 'active-set'")
     h = np.asarray(heights, dtype=float)
+    kw = dict(mean_pressure=mean_pressure, penetration=penetration, tol=tol, p0=p0)
     if op.symmetric:
-        p, u, delta, its, conv, msg, pairs = polonsky_keer(
-            op, h, mean_pressure=mean_pressure, penetration=penetration, tol=tol,
-            maxiter=maxiter, p0=p0, progress=progress)
-        mask = p > 0
+        r = polonsky_keer(op, h, maxiter=maxiter, progress=progress, **kw)
         method = "polonsky-keer"
-        diag = {"fft_pairs": pairs}
+        diag = {"fft_pairs": r.fft_pairs}
     elif method == "active-set":
-        p, u, delta, mask, its, conv, msg, outer = active_set(
-            op, h, mean_pressure=mean_pressure, penetration=penetration, tol=tol,
-            mask0=mask0, p0=p0)
-        diag = {"outer_iterations": outer}
+        r = active_set(op, h, mask0=mask0, **kw)
+        diag = {"outer_iterations": r.outer_iterations}
     else:
-        p, u, delta, mask, its, conv, msg, outer, pairs = newton_contact(
-            op, h, mean_pressure=mean_pressure, penetration=penetration, tol=tol,
-            mask0=mask0, p0=p0, progress=progress)
+        r = newton_contact(op, h, mask0=mask0, progress=progress, **kw)
         method = "semismooth-newton"
-        diag = {"outer_iterations": outer, "fft_pairs": pairs}
-        if not conv:
+        diag = {"outer_iterations": r.outer_iterations, "fft_pairs": r.fft_pairs}
+        if not r.converged:
             # the exact-solve active set, from its own start: slower, but it converges on
             # some cases where the Newton steps wander (measured: β = 100, ζ = 1 on the
             # rough 128² surface of `bench/viscoelastic.py --robustness`)
-            p, u, delta, mask, more, conv, msg2, outer2 = active_set(
-                op, h, mean_pressure=mean_pressure, penetration=penetration, tol=tol)
-            its += more
+            first = r
+            r = active_set(op, h, mean_pressure=mean_pressure, penetration=penetration,
+                           tol=tol)
+            r = r._replace(iterations=r.iterations + first.iterations,
+                           message=f"{r.message} (after the semismooth Newton method: "
+                                   f"{first.message})")
             method = "active-set"
-            msg = f"{msg2} (after the semismooth Newton method: {msg})"
-            diag.update(fallback_outer_iterations=outer2)
+            diag.update(fallback_outer_iterations=r.outer_iterations)
+    p, u, conv, msg = r.pressure, r.displacement, r.converged, r.message
     if not (np.all(np.isfinite(p)) and np.all(np.isfinite(u))):
         conv = False
         msg = "non-finite pressure or displacement: " + msg
         p = np.nan_to_num(p)
         u = np.nan_to_num(u)
-    gap = u - (h - float(h.max()) + delta)
-    gap[mask] = 0.0
-    fr = friction(op, h, p, u)
-    return ContactResult(
-        pressure=p, displacement=u, gap=gap, mask=mask, mean_pressure=float(p.mean()),
-        penetration=float(delta), area_fraction=float(mask.mean()), **fr, iterations=int(its),
-        converged=bool(conv), message=msg,
-        method=method, diagnostics=diag)
+    gap = u - (h - float(h.max()) + r.penetration)
+    gap[r.contact] = 0.0
+    return ContactState(
+        pressure=p, displacement=u, gap=gap, contact=r.contact, penetration=float(r.penetration),
+        mean_pressure=float(p.mean()), status=status_of(conv, r.contact),
+        iterations=int(r.iterations), converged=bool(conv), message=msg, method=method,
+        **friction(op, h, p, u), diagnostics=diag)

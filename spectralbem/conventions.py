@@ -17,6 +17,12 @@ Signs (the seed's, checked in docs/derivations.md §1 and by tests/test_spectral
       mean level of the deformed surface (the seed's log|2 sin(kx/2)| kernel).
     * Energies use the compressive pressure (docs/derivations.md §3): ``U = ½∫p u ≥ 0``.
 
+Controls
+    A state is prescribed by exactly one of ``mean_pressure`` (Pa, load control) and
+    ``penetration`` (m, displacement control): the same two names in every solver, scene
+    and dataset (:func:`control`).  The seed's dimensionless ``p_tilde`` and ``delta_tilde``
+    appear only at its paper-level entry points (``Scene.sinusoid``, ``sinusoid1d.solve``).
+
 Dimensionless groups of the sinusoid h = Λ cos(kx) (seed Section 4, with the corrected Γ of
 docs/derivations.md §2)
     ã = k a, ẽ = k e, p̃ = p/p* with p* = E0 k Λ/(2(1-ν²)), Δ̃ = Δ/Λ, Λ̃ = kΛ, ζ = k v τ,
@@ -27,7 +33,27 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["p_star", "gamma_from_dgamma", "dgamma_from_gamma"]
+__all__ = ["control", "p_star", "gamma_from_dgamma", "dgamma_from_gamma"]
+
+
+def control(mean_pressure=None, penetration=None, error=ValueError, allowed=None) -> tuple:
+    """(name, value) of the one prescribed control: ``("mean_pressure", p̄)`` or
+    ``("penetration", Δ)``; ``error`` (a ValueError subclass) when both or neither is given
+    or the value is not a finite number (``allowed``: name -> the allowed range, for the
+    message; finite numbers by default)."""
+    if (mean_pressure is None) == (penetration is None):
+        raise error("give exactly one of mean_pressure (load control) and penetration "
+                    "(displacement control)")
+    name, value = (("mean_pressure", mean_pressure) if mean_pressure is not None
+                   else ("penetration", penetration))
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        v = float("nan")
+    if not np.isfinite(v):
+        rng = (allowed or {}).get(name, "(-inf, inf)")
+        raise error(f"{name} = {value!r} must be a finite number (allowed {rng})")
+    return name, v
 
 
 def p_star(E0: float, nu: float, k: float, amplitude: float) -> float:

@@ -98,7 +98,7 @@ def front_outputs(op, r, dgamma) -> dict:
     ds = front_length_weights(normal, cell.hx, cell.hy)
     ok = b.outer_front & (r.resolved if r.resolved is not None else True)
     s = np.clip(np.where(ok & np.isfinite(r.offset_out), r.offset_out, 0.0), -r.a0, r.a0)
-    area = float(r.mask.sum() * cell.cell_area + np.sum(s * ds))
+    area = float(r.contact.sum() * cell.cell_area + np.sum(s * ds))
     dg = np.broadcast_to(np.asarray(dgamma, float), cell.shape)
     edge = ok & np.isfinite(t.dLP_rate)
     length = float(np.sum(ds[edge]))

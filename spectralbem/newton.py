@@ -37,6 +37,7 @@ import numpy as np
 
 from .masked import solve_packed
 from .spectral import SpectralOperator
+from .state import Solution
 
 #: relative residual of the masked solves while the contact set still moves
 LOOSE = 1e-3
@@ -100,12 +101,11 @@ def _start(op, h, mean_pressure, penetration, tol):
     from .contact import polonsky_keer
 
     kw = dict(mean_pressure=mean_pressure, penetration=penetration, tol=tol)
-    p, _u, _d, _it, ok, _m, pairs = polonsky_keer(op.magnitude_part(), h,
-                                                  maxiter=START_MAXITER, **kw)
-    if not ok:
-        p, _u, _d, _it, _ok, _m, more = polonsky_keer(op.relaxed_part(), h, maxiter=2000,
-                                                      **kw)
-        pairs += more
+    s = polonsky_keer(op.magnitude_part(), h, maxiter=START_MAXITER, **kw)
+    p, pairs = s.pressure, s.fft_pairs
+    if not s.converged:
+        s = polonsky_keer(op.relaxed_part(), h, maxiter=2000, **kw)
+        p, pairs = s.pressure, pairs + s.fft_pairs
     return p, pairs
 
 
@@ -116,9 +116,9 @@ def newton_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetra
 
     Converged when no cell leaves or joins the set after a solve to ``tol`` (relative
     residual of the masked equations, checked on the true displacement) — the same criterion
-    and thresholds as :func:`spectralbem.contact.active_set`.  Returns (p, u, delta, mask,
-    iterations, converged, message, outer, fft_pairs): iterations counts operator
-    applications of the Krylov solves.
+    and thresholds as :func:`spectralbem.contact.active_set`.  Returns a
+    :class:`~spectralbem.state.Solution`: ``iterations`` counts operator applications of the
+    Krylov solves.
     """
     from .contact import _check_controls, _full_contact, untouched
 
@@ -129,7 +129,7 @@ def newton_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetra
     hrange = max(float(h.max() - h.min()), np.finfo(float).tiny)
     load = mean_pressure is not None
     if not load and float(penetration) <= 0:
-        return untouched(cell, penetration) + (0, 0.0)
+        return untouched(cell, penetration)
     pairs = 0.0
     if mask0 is None:
         p, start_pairs = _start(op, h, mean_pressure, penetration, start_tol)
@@ -160,8 +160,8 @@ def newton_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetra
                 p, delta = full
                 pairs += 1
                 if np.all(p >= 0):
-                    return (p, op.apply(p), delta, mask, iterations, True, "full contact",
-                            outer, pairs + 1)
+                    return Solution(p, op.apply(p), delta, mask, iterations, True,
+                                    "full contact", outer, pairs + 1)
                 mask = p > 0
                 continue
         guard = int(20 * np.sqrt(np.count_nonzero(mask)) + 500)
@@ -212,4 +212,4 @@ def newton_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetra
         message = f"semismooth Newton not converged in {max_outer} outer iterations"
     if u is None:
         u = op.apply(p)
-    return p, u, delta, mask, iterations, converged, message, outer, pairs
+    return Solution(p, u, delta, mask, iterations, converged, message, outer, pairs)

@@ -68,7 +68,8 @@ class Scene:
     Seed scenes (``kind == "sinusoid"``) are in dimensionless sinusoid units
     (k = Λ = E0* = τ = 1, so p* = 1/2); physical scenes are in SI units.
     ``control`` is ``(name, values)``: name ``mean_pressure`` or ``penetration`` and one value
-    per step (one step unless the scene is a path); ``p_mean``/``delta`` hold the first step.
+    per step (one step unless the scene is a path); ``mean_pressure``/``penetration`` hold the
+    step being solved (the first one of a path), the other is None.
     """
 
     cell: Cell
@@ -77,8 +78,8 @@ class Scene:
     velocity: tuple
     dgamma: object  # J/m², scalar or per-cell map
     a0: float
-    p_mean: float | None = None
-    delta: float | None = None
+    mean_pressure: float | None = None  # Pa (seed scenes: k = Λ = E0* = 1 units)
+    penetration: float | None = None  # m (seed scenes: k = Λ = E0* = 1 units)
     kind: str = "custom"
     params: dict = field(default_factory=dict)
     layer: object = None
@@ -99,14 +100,14 @@ class Scene:
         """Control values of the path (one entry for a single state)."""
         if self.control:
             return list(self.control[1])
-        return [self.p_mean if self.p_mean is not None else self.delta]
+        return [self.mean_pressure if self.mean_pressure is not None else self.penetration]
 
     def at_step(self, value) -> Scene:
         name = self.control[0] if self.control else (
-            "mean_pressure" if self.p_mean is not None else "penetration")
+            "mean_pressure" if self.mean_pressure is not None else "penetration")
         if name == "mean_pressure":
-            return dataclasses.replace(self, p_mean=value, delta=None)
-        return dataclasses.replace(self, p_mean=None, delta=value)
+            return dataclasses.replace(self, mean_pressure=value, penetration=None)
+        return dataclasses.replace(self, mean_pressure=None, penetration=value)
 
     @classmethod
     def sinusoid(cls, zeta: float, beta: float, Gamma: float, *, p_tilde: float | None = None,

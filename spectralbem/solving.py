@@ -95,13 +95,13 @@ def _verify(status: str, message: str, scene: Scene, mask) -> tuple:
     if status != "detached":
         return status, message
     seed = scene.kind == "sinusoid"
-    if scene.p_mean is not None and scene.p_mean > 0:
-        load = f"p̃ = {scene.p_mean / 0.5:g}" if seed else f"{scene.p_mean:g} Pa"
+    if scene.mean_pressure is not None and scene.mean_pressure > 0:
+        load = f"p̃ = {scene.mean_pressure / 0.5:g}" if seed else f"{scene.mean_pressure:g} Pa"
         return "not_converged", (f"no equilibrium found: the contact vanished under the "
                                  f"compressive mean pressure {load}, which a detached state "
                                  f"cannot carry (solver: {message})")
-    if scene.delta is not None and scene.delta > 0:
-        pen = f"Δ̃ = {scene.delta:g}" if seed else f"{scene.delta:g} m"
+    if scene.penetration is not None and scene.penetration > 0:
+        pen = f"Δ̃ = {scene.penetration:g}" if seed else f"{scene.penetration:g} m"
         return "not_converged", (f"no equilibrium found: the contact vanished at the "
                                  f"penetration {pen} > 0, where a detached state "
                                  f"interpenetrates (solver: {message})")
@@ -136,7 +136,7 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10, progress=Non
         if mask0 is None and scene.kind == "sinusoid":  # start from Johnson's E0 contact
             from . import reference as ref
 
-            pt = scene.p_mean / pstar if scene.p_mean is not None else 0.3
+            pt = scene.mean_pressure / pstar if scene.mean_pressure is not None else 0.3
             a = ref.johnson_a(pt, scene.params["Gamma"]) if pt is not None else np.nan
             a = a if np.isfinite(a) else 1.0
             xw = (cell.x + np.pi) % (2 * np.pi) - np.pi
@@ -145,17 +145,17 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10, progress=Non
         vperp = (-vhat[1], vhat[0])
         obs = {"load": np.ones(cell.shape), "force": -cell.derivative(h, vhat),
                "lateral": -cell.derivative(h, vperp)}
-        r = solve_adhesive(op, h, scene.dgamma, scene.a0, penetration=scene.delta,
-                           mean_pressure=scene.p_mean, mask0=mask0, rtol=rtol,
+        r = solve_adhesive(op, h, scene.dgamma, scene.a0, penetration=scene.penetration,
+                           mean_pressure=scene.mean_pressure, mask0=mask0, rtol=rtol,
                            observables=obs, max_outer=scene.solver["max_outer"],
                            **_smoothing(scene),
                            criterion=scene.solver.get("criterion", "exact"),
                            front_tol=scene.solver.get("front_tol", 0.5),
                            flaw_radius=scene.flaw_radius, progress=progress)
-        p, mask, delta, status = r.pressure, r.mask, r.penetration, r.status
+        p, mask, delta, status = r.pressure, r.contact, r.penetration, r.status
         out["p_front"] = r.mean_pressure
         a0e = r.a0
-        u = op.apply(p)
+        u = r.displacement
         if status == "partial" and r.tests is not None:  # the local G/Δγ on the front
             G_front = front.front_outputs(op, r, scene.dgamma)["G_map"]
         if scene.kind == "sinusoid" and status == "partial":
@@ -188,17 +188,16 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10, progress=Non
         else:
             l1 = l2 = np.nan
             out.update(G1_over_dgamma=np.nan, G2_over_dgamma=np.nan)
-        info = dict(outer_iterations=r.outer_iterations, solves=r.solves, message=r.message,
+        info = dict(outer_iterations=r.iterations, solves=r.solves, message=r.message,
                     balanced_fraction=r.balanced_fraction, front_residual=r.residual)
         if status in ("detached", "full_contact"):  # no front: nothing unbalanced
             info.update(balanced_fraction=1.0, front_residual=0.0)
     else:
-        res = solve_contact(op, h, mean_pressure=scene.p_mean,
-                            penetration=scene.delta, tol=rtol,
+        res = solve_contact(op, h, mean_pressure=scene.mean_pressure,
+                            penetration=scene.penetration, tol=rtol,
                             maxiter=scene.solver["max_iterations"])
-        p, mask, delta, u = res.pressure, res.mask, res.penetration, res.displacement
-        status = "partial" if res.converged and not res.full_contact else (
-            "full_contact" if res.full_contact else "not_converged")
+        p, mask, delta, u = res.pressure, res.contact, res.penetration, res.displacement
+        status = res.status
         l1 = l2 = np.nan
         if scene.kind == "sinusoid" and status == "partial":
             zeros = np.zeros(cell.shape)
@@ -258,15 +257,15 @@ def _adhesiveless_mask(op, scene: Scene):
     from .contact import solve_contact
 
     h = scene.heights
-    if scene.delta is not None:
-        if scene.delta <= 0:
+    if scene.penetration is not None:
+        if scene.penetration <= 0:
             return None
-        res = solve_contact(op, h, penetration=scene.delta, tol=1e-6)
+        res = solve_contact(op, h, penetration=scene.penetration, tol=1e-6)
     else:
-        p = abs(scene.p_mean) or 1e-4 * scene.material.E0 * float(np.std(h)) / max(
+        p = abs(scene.mean_pressure) or 1e-4 * scene.material.E0 * float(np.std(h)) / max(
             scene.cell.Lx, scene.cell.Ly)
         res = solve_contact(op, h, mean_pressure=p, tol=1e-6)
-    return res.mask if res.mask.any() and not res.mask.all() else None
+    return res.contact if res.contact.any() and not res.contact.all() else None
 
 
 def _solve_grid(scene: Scene, mask0=None, progress=None):
@@ -287,17 +286,17 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
         # the new load's Δ; unloading: the adhesiveless contact is inside the carried one)
         m_free = _adhesiveless_mask(op, scene)
         mask0 = m_free if mask0 is None else (mask0 | m_free if m_free is not None else mask0)
-        r = solve_adhesive(op, h, scene.dgamma, scene.a0, penetration=scene.delta,
-                           mean_pressure=scene.p_mean, mask0=mask0, rtol=tol,
+        r = solve_adhesive(op, h, scene.dgamma, scene.a0, penetration=scene.penetration,
+                           mean_pressure=scene.mean_pressure, mask0=mask0, rtol=tol,
                            max_outer=scene.solver["max_outer"],
                            **_smoothing(scene),
                            criterion=scene.solver.get("criterion", "exact"),
                            front_tol=scene.solver.get("front_tol", 0.5),
                            flaw_radius=scene.flaw_radius, progress=progress)
-        p, mask, delta, status = r.pressure, r.mask, r.penetration, r.status
-        u = op.apply(p)
+        p, mask, delta, status = r.pressure, r.contact, r.penetration, r.status
+        u = r.displacement
         msg = r.message
-        sc.update(iterations=r.outer_iterations, solves=r.solves,
+        sc.update(iterations=r.iterations, solves=r.solves,
                   unresolved_patches=r.unresolved_patches,
                   balanced_fraction=r.balanced_fraction, front_residual=r.residual)
         area = None
@@ -330,12 +329,11 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
                 "method": "front-layer energy balance, sub-cell front",
                 "history": r.history[-20:]}
     else:
-        res = solve_contact(op, h, mean_pressure=scene.p_mean, penetration=scene.delta,
+        res = solve_contact(op, h, mean_pressure=scene.mean_pressure, penetration=scene.penetration,
                             tol=tol, maxiter=scene.solver["max_iterations"],
                             progress=progress)
-        p, mask, delta, u = res.pressure, res.mask, res.penetration, res.displacement
-        status = ("full_contact" if res.full_contact else "partial") if res.converged else (
-            "not_converged")
+        p, mask, delta, u = res.pressure, res.contact, res.penetration, res.displacement
+        status = res.status
         msg = res.message
         status, msg = _verify(status, msg, scene, mask)
         sc.update(iterations=res.iterations)
@@ -399,8 +397,8 @@ def _solve_1d(scene: Scene, guess=None):
     if not 0.0 <= d["a0_tilde"] <= 1.0:
         raise SceneError(f"adhesion.a0: k a0 = {d['a0_tilde']!r} is outside the 1D method's "
                          "range [0, 1]")
-    pt = None if scene.p_mean is None else scene.p_mean / d["pstar"]
-    dt = None if scene.delta is None else scene.delta / d["amp"]
+    pt = None if scene.mean_pressure is None else scene.mean_pressure / d["pstar"]
+    dt = None if scene.penetration is None else scene.penetration / d["amp"]
     ds = oned.solve(d["zeta"], d["beta"], d["Gamma"], p_tilde=pt, delta_tilde=dt,
                           a0_tilde=d["a0_tilde"], guess=guess)
     if not phys:

@@ -114,7 +114,7 @@ def griffith_radius(res, cell) -> float:
     """Equivalent radius of a disc-shaped contact at the Griffith edge: the mask radius plus
     the mean sub-cell offset of the outer front, which in an elastic scene is already that of
     the sharp-crack edge (docs/theory.md)."""
-    a = np.sqrt(res.mask.sum() * cell.cell_area / np.pi)
+    a = np.sqrt(res.contact.sum() * cell.cell_area / np.pi)
     s = res.offset_out[res.tests.bands.outer_front]
     s = s[np.isfinite(s)]
     return float(a + (s.mean() if s.size else 0.0))
@@ -150,12 +150,12 @@ def pulloff_bisection(op, h, w, cell, mask, steps: int = 7, verbose: bool = Fals
         mid = 0.9 * Pc if k == 0 else 0.5 * (lo + hi)
         res = solve_adhesive(op, h, w, cell.hx, mean_pressure=mid, mask0=mask, **kw)
         if res.status == "partial":
-            lo, mask = mid, res.mask
+            lo, mask = mid, res.contact
         else:
             hi = mid
         if verbose:
             print(f"  pull-off bisection {k + 1}/{steps}: P/Pc = {mid / Pc:.4f} {res.status} "
-                  f"({res.outer_iterations} outer iterations)", flush=True)
+                  f"({res.iterations} outer iterations)", flush=True)
     return lo / Pc, hi / Pc
 
 

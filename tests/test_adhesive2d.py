@@ -125,7 +125,7 @@ def test_no_lattice_trapping_and_first_order_convergence():
             r = solve_adhesive(op, h, np.pi * GAMMA, cell.hx, mean_pressure=0.075, mask0=start)
             assert r.converged and r.status == "partial", r.message
             assert r.mean_pressure == pytest.approx(0.075, rel=1e-5)  # carried by the front
-            l1, l2 = _edges_y_invariant(r.mask, r.offset_out, cell)
+            l1, l2 = _edges_y_invariant(r.contact, r.offset_out, cell)
             a[name] = (l1 + l2) / 2
         assert abs(a["unload"] - a["load"]) < 0.05 * cell.hx
         errs.append(a["load"] / aJ - 1)
@@ -203,12 +203,12 @@ def test_jkr_sphere_along_a_load_unload_path():
         a = area_radius(op, res, w)
         assert a == pytest.approx(ref.jkr_radius(P, 1.0, 1.0, w), rel=0.01), P / Pc
         radius[k] = a
-        mask = res.mask
+        mask = res.contact
     assert radius[3] == pytest.approx(radius[1], rel=5e-3)  # zero load
     assert radius[4] == pytest.approx(radius[0], rel=5e-3)  # half the pull-off
     held = solve_adhesive(op, h, w, cell.hx, mean_pressure=0.98 * Pc, mask0=mask)
     assert held.status == "partial", held.message
-    pulled = solve_adhesive(op, h, w, cell.hx, mean_pressure=1.02 * Pc, mask0=held.mask)
+    pulled = solve_adhesive(op, h, w, cell.hx, mean_pressure=1.02 * Pc, mask0=held.contact)
     assert pulled.status != "partial"
 
 
@@ -350,7 +350,7 @@ def test_predictor_and_hybrid_criteria_on_the_jkr_sphere():
     res = solve_adhesive(op, h, w, cell.hx, mean_pressure=0.0, mask0=r < 0.9 * aJ,
                          criterion="predictor")
     assert (res.status == "partial") == (res.residual <= FRONT_TOL), res.message
-    assert np.sqrt(res.mask.sum() * cell.cell_area / np.pi) == pytest.approx(aJ, rel=0.03)
+    assert np.sqrt(res.contact.sum() * cell.cell_area / np.pi) == pytest.approx(aJ, rel=0.03)
     assert np.isfinite(res.tests.G_close[res.tests.bands.outer_front]).any()
     res = solve_adhesive(op, h, w, cell.hx, mean_pressure=0.0, mask0=r < 0.9 * aJ,
                          criterion="hybrid")

@@ -79,7 +79,7 @@ def test_layer_thickness_range(kind):
         assert np.all(np.isfinite(r.pressure)) and np.all(np.isfinite(r.displacement))
         assert r.mean_pressure == pytest.approx(2e-3, rel=1e-9)
         areas.append(r.area_fraction)
-    np.testing.assert_array_equal(r.mask, half.mask)
+    np.testing.assert_array_equal(r.contact, half.contact)
     np.testing.assert_allclose(r.pressure, half.pressure, rtol=0, atol=1e-8 * half.pressure.max())
     if kind == "glued":
         assert areas[0] < areas[-1]
@@ -306,7 +306,7 @@ def test_leaving_full_contact_by_the_nucleation_rule():
                                flaw_radius=flaw * H)
             status[flaw, pt] = r.status
             if (flaw, pt) == (24, 0.0):
-                edges = _edges_y_invariant(r.mask, r.offset_out, cell)
+                edges = _edges_y_invariant(r.contact, r.offset_out, cell)
                 assert abs(np.mean(edges) - ref.johnson_a(0.0, 0.05)) <= 0.5 * H
     assert status == {(8, 0.5): "full_contact", (8, 0.0): "full_contact",
                       (8, -0.3): "detached", (24, 0.5): "full_contact",

@@ -135,7 +135,7 @@ def test_finite_a0_moves_edges_inward_linearly():
 @pytest.fixture(scope="module")
 def visco_state():
     pr = s1.dimensionless_problem(0.1, BETA, GAMMA, 0.01)
-    st = pr.equilibrium(p_mean=0.15 * pr.p_star())
+    st = pr.equilibrium(mean_pressure=0.15 * pr.p_star())
     assert st.info["converged"]
     return pr, st
 
@@ -147,7 +147,7 @@ def test_energy_identities(visco_state):
         assert ew.dL == pytest.approx(ew.dU + ew.dLP, rel=1e-10)
         assert abs(ew.dLP) > 1e-3 * abs(ew.dL)  # the viscoelastic term is really there
     el = s1.Sinusoid1D(Elastic(1.0, 0.0), 1.0, 1.0, dgamma=np.pi * GAMMA, a0=0.01)
-    est = el.equilibrium(p_mean=0.075)
+    est = el.equilibrium(mean_pressure=0.075)
     for ew in est.work:  # Betti reciprocity: δL_P = 0 for an elastic material
         assert abs(ew.dLP) < 1e-10 * abs(ew.dL)
 
@@ -157,11 +157,11 @@ def test_friction_energy_balance(visco_state):
     (K1² - K2²)/(2E∞* λ p∞), which vanishes in the strict limit a0 = 0 and without adhesion."""
     pr, st = visco_state
     K1, K2 = st.K
-    tip = (K1**2 - K2**2) / (2 * pr.Estar_tip * pr.lam * st.p_mean)
+    tip = (K1**2 - K2**2) / (2 * pr.Estar_tip * pr.lam * st.mean_pressure)
     # the dissipation series is summed to 2e4 terms with an asymptotic tail: ~1e-6 accurate
     assert pr.friction(st) == pytest.approx(pr.friction_dissipation(st, 20000) + tip, rel=1e-5)
     plain = s1.dimensionless_problem(0.3, BETA, 0.0)
-    s0 = plain.equilibrium(p_mean=0.075)
+    s0 = plain.equilibrium(mean_pressure=0.075)
     assert plain.friction(s0) == pytest.approx(plain.friction_dissipation(s0, 20000), rel=1e-6)
 
 
@@ -202,13 +202,13 @@ def test_equilibrium_rejects_a_state_that_interpenetrates(monkeypatch):
     from types import SimpleNamespace
 
     pr = s1.dimensionless_problem(0.0, 10.0, 0.008, 0.01)
-    good = pr.equilibrium(p_mean=0.15 * pr.p_star())
+    good = pr.equilibrium(mean_pressure=0.15 * pr.p_star())
     assert good.info["converged"] and good.info["interpenetration"] == 0.0
     # the root finder's unknowns are the half-width and centre (a, c) = (0.6, 1.0)
     flank = SimpleNamespace(x=np.array([0.6, 1.0]), fun=np.zeros(2), message="forced",
                             nfev=1)
     monkeypatch.setattr(problem, "root", lambda *a, **k: flank)
-    bad = pr.equilibrium(delta=good.delta)
+    bad = pr.equilibrium(penetration=good.penetration)
     assert not bad.info["converged"]
     assert bad.info["interpenetration"] > 1e-3 and "inadmissible" in bad.info["message"]
 
@@ -247,14 +247,14 @@ def test_robust_equilibrium_prefers_the_rising_branch():
     started on the falling state must return the rising one."""
     pr = s1.dimensionless_problem(1.0, BETA, 0.008, 0.01)
     p = 0.15 * pr.p_star()
-    fall = pr.equilibrium(p_mean=p, guess=(2.194 + 0.495, 2.194 - 0.495))
+    fall = pr.equilibrium(mean_pressure=p, guess=(2.194 + 0.495, 2.194 - 0.495))
     assert fall.info["converged"] and abs(fall.domain.a - 2.1943) < 1e-3
-    slope = s1.branch_slope(pr, fall, "p_mean")
-    lo, hi = (s1.branch_point(pr, fall.domain.a + s, (fall.domain.c, fall.delta))
+    slope = s1.branch_slope(pr, fall, "mean_pressure")
+    lo, hi = (s1.branch_point(pr, fall.domain.a + s, (fall.domain.c, fall.penetration))
               for s in (-2e-3, 2e-3))
-    central = (hi.p_mean - lo.p_mean) / 4e-3
+    central = (hi.mean_pressure - lo.mean_pressure) / 4e-3
     assert slope < 0 and central < 0 and abs(slope / central - 1) < 0.01
-    st = pr.robust_equilibrium(p_mean=p, guess=(fall.l1, fall.l2))
+    st = pr.robust_equilibrium(mean_pressure=p, guess=(fall.l1, fall.l2))
     assert st.info["converged"] and st.info["branch_slope"] > 0
     assert abs(st.domain.a - 0.8975705620) < 1e-8  # the cold-start state, same to 1e-8
 

@@ -124,11 +124,11 @@ def test_load_below_pull_off_detaches_on_every_side_of_the_falling_branch():
     a_fall = number_after(msg, "equilibrium found at ã =")
     assert a_fall == pytest.approx(2.36, abs=5e-3)
     pr = s1.dimensionless_problem(0.1, BETA, GAMMA, A0)
-    st = pr.equilibrium(p_mean=-0.2 * pr.p_star(), guess=(a_fall + 1.25, a_fall - 1.25))
+    st = pr.equilibrium(mean_pressure=-0.2 * pr.p_star(), guess=(a_fall + 1.25, a_fall - 1.25))
     assert st.info["converged"] and abs(st.domain.a - a_fall) < 5e-3
-    lo, hi = (s1.branch_point(pr, st.domain.a + h, (st.domain.c, st.delta))
+    lo, hi = (s1.branch_point(pr, st.domain.a + h, (st.domain.c, st.penetration))
               for h in (-2e-3, 2e-3))
-    central = (hi.p_mean - lo.p_mean) / 4e-3 / pr.p_star()
+    central = (hi.mean_pressure - lo.mean_pressure) / 4e-3 / pr.p_star()
     assert central < 0
     assert number_after(msg, "dp̃/dã =") == pytest.approx(central, rel=0.05)
     sc = scalars(ds)
@@ -193,7 +193,7 @@ def test_message_agrees_with_status(monkeypatch):
     fake = SimpleNamespace(x=np.array([0.75, 0.0]), fun=np.array([97.0, 1.0]), nfev=1,
                            message="The solution converged.")
     monkeypatch.setattr(problem, "root", lambda *a, **k: fake)
-    st = pr.equilibrium(p_mean=0.15 * pr.p_star())
+    st = pr.equilibrium(mean_pressure=0.15 * pr.p_star())
     assert not st.info["converged"]
     assert st.info["message"].startswith("not converged: edge residuals up to 9.7e+01")
     assert "The solution converged." not in st.info["message"]
@@ -218,7 +218,7 @@ def test_adhesiveless_edges_relative_to_the_load(zeta):
         assert a == pytest.approx(ref.westergaard_a(p), rel=1e-10) and abs(e) < 1e-10 * a
         return
     pr = s1.dimensionless_problem(zeta, BETA, 0.0)
-    tight = pr.equilibrium(p_mean=p * pr.p_star(), guess=(ds.attrs["l1_tilde"],
+    tight = pr.equilibrium(mean_pressure=p * pr.p_star(), guess=(ds.attrs["l1_tilde"],
                                                           ds.attrs["l2_tilde"]),
                            fatol=0.0, tol=1e-15)
     assert abs(tight.domain.c - e) < 1e-9 * a and abs(tight.domain.a - a) < 1e-9 * a

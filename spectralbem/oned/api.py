@@ -67,11 +67,11 @@ def solve(zeta: float, beta: float, Gamma: float, *, p_tilde: float | None = Non
     pr = dimensionless_problem(zeta, beta, Gamma, a0_tilde, adhesive=Gamma > 0, modes=modes,
                                quad=quad)
     ratio = _modulus_ratio(zeta, beta)
-    control, value = (("p_mean", p_tilde * pr.p_star()) if p_tilde is not None
-                      else ("delta", delta_tilde * pr.amp))
+    control, value = (("mean_pressure", p_tilde * pr.p_star()) if p_tilde is not None
+                      else ("penetration", delta_tilde * pr.amp))
     vd = _verdict(pr, control, value, ratio, guess)
     if vd.status in ("full_contact", "detached"):
-        vals, x, p, u = _closed_form(vd.status, p_tilde, vd.delta, ratio)
+        vals, x, p, u = _closed_form(vd.status, p_tilde, vd.delta_tilde, ratio)
         edges = (np.pi, np.pi) if vd.status == "full_contact" else (0.0, 0.0)
     else:
         st = vd.state
@@ -82,7 +82,7 @@ def solve(zeta: float, beta: float, Gamma: float, *, p_tilde: float | None = Non
             xi = np.cos(np.pi * np.arange(1, NXI + 1) / (NXI + 1))[::-1]
             x = st.domain.c + st.domain.a * xi
             p = st.domain.pressure(st.coef, x) / pr.p_star()
-            u = pr.w(x, st.delta) / pr.amp
+            u = pr.w(x, st.penetration) / pr.amp
             x = x * pr.k
             edges = (st.l1 * pr.k, st.l2 * pr.k)
         else:
@@ -117,9 +117,9 @@ def _adhesiveless_reference(zeta, beta, Gamma, pt, ratio, modes, quad) -> dict:
     if pt is None or not np.isfinite(pt):
         return dict.fromkeys(keys, np.nan)
     ref = dimensionless_problem(zeta, beta, Gamma, 0.0, adhesive=False, modes=modes, quad=quad)
-    vd = _verdict(ref, "p_mean", pt * ref.p_star(), ratio, stability=False)
+    vd = _verdict(ref, "mean_pressure", pt * ref.p_star(), ratio, stability=False)
     if vd.status in ("full_contact", "detached"):
-        vals = _closed_form(vd.status, pt, vd.delta, ratio)[0]
+        vals = _closed_form(vd.status, pt, vd.delta_tilde, ratio)[0]
     elif vd.status == "partial":
         vals = _summary(ref, vd.state)
     else:

@@ -86,7 +86,7 @@ class Verdict:
     reason: str
     state: State | None = None
     residual: float = np.nan
-    delta: float = 0.0  # detached under load control: Δ̃ at the pull-off it detached from
+    delta_tilde: float = 0.0  # detached under load control: Δ̃ at the pull-off it detached from
 
 
 class _Branch:
@@ -104,7 +104,7 @@ class _Branch:
         if not st.info["converged"] and guess != (0.0, None):
             st = branch_point(self.pr, a, (0.0, None))
         if st.info["converged"]:
-            self.solved[a] = ((st.l2 - st.l1) / 2, st.delta)
+            self.solved[a] = ((st.l2 - st.l1) / 2, st.penetration)
         return st
 
     def at(self, a: float):
@@ -112,7 +112,7 @@ class _Branch:
         st = self.state(a)
         if not st.info["converged"]:
             return np.nan, np.nan
-        return st.p_mean / self.pr.p_star(), st.delta / self.pr.amp
+        return st.mean_pressure / self.pr.p_star(), st.penetration / self.pr.amp
 
     def trace(self, a_grid):
         """The branch on ``a_grid``: (ã, p̃, Δ̃) where a point was found.
@@ -196,8 +196,8 @@ def _slope(pr: Sinusoid1D, st: State, control: str) -> float:
 
 def _verdict(pr: Sinusoid1D, control: str, value: float, ratio: complex, guess=None, *,
              stability: bool = True) -> Verdict:
-    """The verified state at mean pressure p∞ (``control`` 'p_mean') or penetration Δ
-    ('delta') of a dimensionless problem (:func:`dimensionless_problem`).
+    """The verified state at mean pressure p∞ (``control`` 'mean_pressure') or penetration Δ
+    ('penetration') of a dimensionless problem (:func:`dimensionless_problem`).
 
     ``partial``: both edge residuals below the tolerance, no interpenetration outside the
     contact, and (``stability``) on the rising branch, dp̃/dã > 0 under load control or
@@ -211,7 +211,7 @@ def _verdict(pr: Sinusoid1D, control: str, value: float, ratio: complex, guess=N
     not settle the outcome.  ``not_converged`` otherwise.  Loads follow the branch from first
     contact (ã → 0): a full contact formed before would hold any tension (JKR, no flaw).
     """
-    load = control == "p_mean"
+    load = control == "mean_pressure"
     v = value / (pr.p_star() if load else pr.amp)  # p̃ or Δ̃
     if pr.dgamma == 0.0:
         if load and v >= abs(ratio):
@@ -222,7 +222,7 @@ def _verdict(pr: Sinusoid1D, control: str, value: float, ratio: complex, guess=N
             return Verdict("detached", (f"p̃ = {v:.6g}: no compressive load" if load else
                                         f"Δ̃ = {v:.6g}: the crest does not pass the mean level")
                            + " and no adhesion, so no contact", residual=0.0,
-                           delta=0.0 if load else v)
+                           delta_tilde=0.0 if load else v)
     st = pr.robust_equilibrium(guess=guess, **{control: value})
     falling = None
     if st.info["converged"]:
@@ -252,7 +252,7 @@ def _branch_verdict(pr: Sinusoid1D, control: str, v: float, st: State, falling) 
     traced on :data:`VERDICT_GRID` and the control value ``v`` (p̃ or Δ̃) placed on it."""
     from scipy.optimize import brentq
 
-    load = control == "p_mean"
+    load = control == "mean_pressure"
     col, name = (0, "p̃") if load else (1, "Δ̃")
     note = ""
     if falling is not None:
@@ -319,7 +319,7 @@ def _branch_verdict(pr: Sinusoid1D, control: str, v: float, st: State, falling) 
                     f"Δ̃ = {v:.6g} is below the fixed-grip pull-off Δ̃ = {v_lo:.6g}")
             return Verdict("detached", f"{what}, the smallest value before the rise of the "
                            f"branch, at ã = {pr.k * a_lo:.4g} {span}: no stable contact"
-                           + note, residual=0.0, delta=br.at(a_lo)[1] if load else v)
+                           + note, residual=0.0, delta_tilde=br.at(a_lo)[1] if load else v)
         if a_lo < nodes[0]:
             nodes, vals = [a_lo] + nodes, [v_lo] + vals
         else:
@@ -367,12 +367,12 @@ def _summary(pr: Sinusoid1D, st: State) -> dict:
     """Dimensionless scalars of a state (k = Λ = E0* = 1 units)."""
     k, lam = pr.k, pr.lam
     pstar = pr.p_star()
-    control, value = st.info.get("control", ("p_mean", None))
+    control, value = st.info.get("control", ("mean_pressure", None))
     # the prescribed load, not its rounding (μ̄ at p̃ = 0 is then ±inf, not F/1e-19)
-    pm = value if control == "p_mean" and value is not None else st.p_mean
+    pm = value if control == "mean_pressure" and value is not None else st.mean_pressure
     out = {
         "a_tilde": k * (st.l1 + st.l2) / 2, "e_tilde": k * (st.l2 - st.l1) / 2,
-        "p_tilde": pm / pstar, "delta_tilde": st.delta / pr.amp,
+        "p_tilde": pm / pstar, "delta_tilde": st.penetration / pr.amp,
         # an elastic contact is symmetric: no friction (the quadrature leaves ~1e-17, which
         # at zero load would read as an infinite μ̄); viscoelastic at zero load: ±inf
         "mu_bar": (_quotient(pr.friction_force(st), lam * pm) / (k * pr.amp)
@@ -380,7 +380,7 @@ def _summary(pr: Sinusoid1D, st: State) -> dict:
         "K1": st.K[0], "K2": st.K[1],
     }
     slope = st.info.get("branch_slope", np.nan)
-    out["branch_slope"] = slope / (k * (pstar if control == "p_mean" else pr.amp))
+    out["branch_slope"] = slope / (k * (pstar if control == "mean_pressure" else pr.amp))
     if pr.dgamma > 0 and pr.a0 > 0 and st.work[0] is not None:
         G1, G2 = (ew.dU / pr.a0 for ew in st.work)
     elif pr.dgamma > 0:  # a0 = 0: strict limit, δL_P → 0 and G_i = K_i²/(2E_tip*)
@@ -404,7 +404,7 @@ def branch_point(pr: Sinusoid1D, a: float, guess=(0.0, None)):
     (:meth:`Sinusoid1D.shape`).  A 2D Newton search in (e, Δ) is the fallback.
     """
     e, d, res, message = _branch_edges(pr, a, guess)
-    st = pr.state_of(pr.pair_at(a, e), delta=d)
+    st = pr.state_of(pr.pair_at(a, e), penetration=d)
     if pr.dgamma and pr.a0:
         pr.release_rates(st)
     over = pr.interpenetration(st)
@@ -424,13 +424,13 @@ def branch_slope(pr: Sinusoid1D, st: State, control: str, step: float = 1e-4) ->
     criterion), and beyond the snap-in maximum the load falls again toward full contact on
     the unstable branch.  nan if the neighbouring branch point is not found."""
     a = st.domain.a + step * pr.lam
-    e, d, res, _ = _branch_edges(pr, a, (st.domain.c, st.delta))
+    e, d, res, _ = _branch_edges(pr, a, (st.domain.c, st.penetration))
     if not res < 1e-8:
         return np.nan
-    if control == "delta":
-        return float((d - st.delta) / (step * pr.lam))
-    p = pr.state_of(pr.pair_at(a, e), delta=d).p_mean
-    return float((p - st.p_mean) / (step * pr.lam))
+    if control == "penetration":
+        return float((d - st.penetration) / (step * pr.lam))
+    p = pr.state_of(pr.pair_at(a, e), penetration=d).mean_pressure
+    return float((p - st.mean_pressure) / (step * pr.lam))
 
 
 def _branch_edges(pr: Sinusoid1D, a: float, guess):
@@ -476,7 +476,7 @@ def _branch_edges(pr: Sinusoid1D, a: float, guess):
             e, d = y
             if not ok_span(e):
                 return np.array([1e3, 1e3])
-            return pr._residual((a, e), "delta", d)
+            return pr._residual((a, e), "penetration", d)
 
         sol2 = root(F2, np.array([e0, d0], float), method="hybr", options={"xtol": 1e-12})
         (e, d), res, message = sol2.x, float(np.max(np.abs(sol2.fun))), sol2.message

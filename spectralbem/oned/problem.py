@@ -11,6 +11,7 @@ import scipy.fft as sfft
 from scipy.optimize import root
 from scipy.special import roots_jacobi
 
+from ..conventions import control as one_control
 from ..materials import Material
 from .domain import Domain
 from .kernel import Kernel1D
@@ -47,8 +48,8 @@ class _Shape:
 class State:
     domain: Domain
     coef: np.ndarray
-    delta: float
-    p_mean: float
+    penetration: float
+    mean_pressure: float
     K: tuple
     work: tuple = (None, None)
     info: dict = field(default_factory=dict)
@@ -163,16 +164,18 @@ class Sinusoid1D:
         both edges' advances share the half-width a + a0/2."""
         return self.pair_at(dom.a + 0.5 * a0, dom.c + (-0.5 if side == 1 else 0.5) * a0)
 
-    def solve_domain(self, l1, l2, *, delta=None, p_mean=None) -> State:
+    def solve_domain(self, l1, l2, *, penetration=None, mean_pressure=None) -> State:
         """Solve Eq. (15) on [-l1, l2] at given Δ, or at given mean pressure p∞ (Δ solved)."""
-        return self.state_of(self.domain_pair(l1, l2), delta=delta, p_mean=p_mean)
+        return self.state_of(self.domain_pair(l1, l2), penetration=penetration,
+                             mean_pressure=mean_pressure)
 
-    def state_of(self, pair, *, delta=None, p_mean=None) -> State:
+    def state_of(self, pair, *, penetration=None, mean_pressure=None) -> State:
         """The state of a :meth:`pair_at` at given Δ or mean pressure p∞ (Δ solved)."""
         dom, cw, c1 = pair
+        delta = penetration
         if delta is None:
             # p∞ = a π c0 / λ fixes Δ
-            delta = (p_mean * self.lam / (dom.a * np.pi) - cw[0]) / c1[0]
+            delta = (mean_pressure * self.lam / (dom.a * np.pi) - cw[0]) / c1[0]
         coef = cw + delta * c1
         pm = dom.a * np.pi * coef[0] / self.lam
         return State(dom, coef, float(delta), float(pm), dom.sif(coef))
@@ -249,7 +252,7 @@ class Sinusoid1D:
     def gap(self, state: State, x) -> np.ndarray:
         """g = u - w at points x (zero inside the contact up to the collocation error)."""
         A = state.domain.response(self.kernel, x)
-        return A @ state.coef - self.w(x, state.delta)
+        return A @ state.coef - self.w(x, state.penetration)
 
     # -- edge energy balance ------------------------------------------------------------
     def _strip_points(self, base, side: int, a0: float, beta: float):
@@ -283,21 +286,21 @@ class Sinusoid1D:
         """
         a0 = self.a0 if a0 is None else a0
         l1, l2 = base.l1, base.l2
-        adv = self.state_of(self.advanced_pair(base.domain, side, a0), delta=base.delta)
+        adv = self.state_of(self.advanced_pair(base.domain, side, a0), penetration=base.penetration)
         xs, ws, R = self._strip(base.domain, side, a0)  # for g₋ p₊ ~ (old)^½ (new)^-½
-        g_minus = R @ base.coef - self.w(xs, base.delta)
+        g_minus = R @ base.coef - self.w(xs, base.penetration)
         gap_sign = float(np.sign(np.sum(ws * g_minus)))
         dL = -0.5 * float(np.sum(ws * g_minus * adv.domain.pressure(adv.coef, xs)))
         bd, ad = base.domain, adv.domain
 
         def w_of(x):
-            return self.w(x, base.delta)
+            return self.w(x, base.penetration)
 
         strip = (-l1 - a0, -l1) if side == 1 else (l2, l2 + a0)
         int_w_pplus_strip = ad.integrate_range(adv.coef, w_of, *strip)
         int_w_pplus_base = ad.integrate_range(adv.coef, w_of, -l1, l2)
-        w_b = self.w(bd.xq, base.delta)
-        int_pp_up = ad.integrate(adv.coef, self.w(ad.xq, base.delta))  # ∫ p₊ u₊ (u₊ = w)
+        w_b = self.w(bd.xq, base.penetration)
+        int_pp_up = ad.integrate(adv.coef, self.w(ad.xq, base.penetration))  # ∫ p₊ u₊ (u₊ = w)
         int_pm_um = bd.integrate(base.coef, w_b)  # ∫ p₋ u₋
         # ∫ u₋ p₊ = ∫_{A₋} w p₊ + ∫_strip (w + g₋) p₊ ;  ∫ u₊ p₋ = ∫_{A₋} w p₋
         int_um_pp = int_w_pplus_base + int_w_pplus_strip - 2.0 * dL
@@ -329,7 +332,7 @@ class Sinusoid1D:
             return np.array([1e3, 1e3])
         pair = self.pair_at(a, c)
         dom, cw, c1 = pair
-        delta = (value if control == "delta"
+        delta = (value if control == "penetration"
                  else (value * self.lam / (dom.a * np.pi) - cw[0]) / c1[0])
         return np.array([self.edge_residual(self.edge_law(pair, side), delta, a)
                          for side in (1, 2)])
@@ -338,7 +341,7 @@ class Sinusoid1D:
         """p* = E0* k Λ/2 (Westergaard full-contact pressure), with E0 = ``E_ref``."""
         return self.E_ref / (1 - self.material.nu**2) * self.k * self.amp / 2
 
-    def equilibrium(self, *, delta=None, p_mean=None, guess=None, tol=1e-11, ftol=1e-8,
+    def equilibrium(self, *, penetration=None, mean_pressure=None, guess=None, tol=1e-11, ftol=1e-8,
                     fatol=1e-10):
         """Partial-contact equilibrium at given Δ or p∞ from a guess (l1, l2).
 
@@ -354,7 +357,7 @@ class Sinusoid1D:
         ~fatol/k of the balance; MINPACK's step test alone took as many evaluations again
         at the residuals' round-off level, measured at ζ = 1e-3), or at its step size ``tol``.
         """
-        control, value = ("delta", delta) if delta is not None else ("p_mean", p_mean)
+        control, value = one_control(mean_pressure, penetration)
         if guess is None:
             guess = self.elastic_guess(control, value)
         l1, l2 = np.asarray(guess, float)
@@ -406,7 +409,7 @@ class Sinusoid1D:
                 out.append(self.elastic_guess(control, value, E))
         return out
 
-    def robust_equilibrium(self, *, delta=None, p_mean=None, guess=None):
+    def robust_equilibrium(self, *, penetration=None, mean_pressure=None, guess=None):
         """:meth:`equilibrium` from ``guess``, then from each of :meth:`guesses`.
 
         With adhesion the load (or Δ) may have several equilibria: a converged state on the
@@ -415,7 +418,7 @@ class Sinusoid1D:
         continued from ζ = 0.3 (ã = 1.37) reached ã = 2.19 at ζ = 1, where dp̃/dã < 0, while
         the elastic guess gives the rising ã = 0.90.  ``info['branch_slope']`` is reported.
         """
-        control, value = ("delta", delta) if delta is not None else ("p_mean", p_mean)
+        control, value = one_control(mean_pressure, penetration)
         st = falling = None
         tried = []
         for g in ([guess] if guess is not None else []) + self.guesses(control, value):
@@ -442,7 +445,7 @@ class Sinusoid1D:
         beta = (self.material.E0 if E is None else E) / self.E_ref
         Gam = (1 - self.material.nu**2) * self.dgamma / (np.pi * self.E_ref * self.k
                                                          * self.amp**2)
-        if control == "p_mean":
+        if control == "mean_pressure":
             pt = value / self.p_star()
             a = (ref.johnson_a(pt, Gam, beta) if Gam > 0
                  else ref.westergaard_a(pt / beta))
@@ -482,15 +485,15 @@ class Sinusoid1D:
         total = np.sum(np.abs(pn) ** 2 * imJ)
         K1, K2 = state.K
         total += (K1**2 + K2**2) * self.kernel.alpha / (2 * self.k**2 * self.v) / (nmax + 0.5)
-        return float(4 * (1 - self.material.nu**2) / (self.lam**2 * state.p_mean) * total)
+        return float(4 * (1 - self.material.nu**2) / (self.lam**2 * state.mean_pressure) * total)
 
     def friction(self, state: State):
         """μ of Eq. (19): -(1/(λ p∞)) ∫ p u' dx with u' = w' = -Λk sin(kx) on the contact.
 
         Undefined (nan) at exactly zero mean pressure; see :meth:`friction_force`."""
-        if state.p_mean == 0.0:
+        if state.mean_pressure == 0.0:
             return np.nan
-        return self.friction_force(state) / (self.lam * state.p_mean)
+        return self.friction_force(state) / (self.lam * state.mean_pressure)
 
     def friction_force(self, state: State) -> float:
         """Tangential force per unit length and period, -∫ p u' dx (N/m)."""

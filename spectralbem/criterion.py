@@ -25,6 +25,7 @@ the width (:func:`band_weights`).  docs/theory.md, "The 2D criterion and the sub
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from scipy import ndimage
@@ -171,6 +172,19 @@ def colours(b: Bands, vhat, viscoelastic: bool):
     return [vn < 0, vn >= 0]
 
 
+class LayerWork(NamedTuple):
+    """The energies of one band test (one colour, the band exactly a0 wide): the work δL of
+    the tractions over the band (Eq. 8), the change of stored energy δU (Eq. 9), the work of
+    the internal stresses δL_P (Eq. 10, 0 in an elastic scene), all in J, the band's area
+    (m²) and the observables (name -> Σ p f) of the test's state."""
+
+    dL: float
+    dU: float
+    dLP: float
+    area: float
+    observables: dict
+
+
 @dataclass
 class FrontTest:
     """Per-front-cell results of the closing and opening tests at fixed Δ."""
@@ -180,8 +194,8 @@ class FrontTest:
     G_close: np.ndarray  # conservative release rate (δL - δL_P)/δA per outer front cell (J/m²)
     dLP_cells: np.ndarray  # δL_P attributed to each closing-band cell (adjoint), J
     g_open: np.ndarray  # gap of each opened band cell in its opening-test state (nan elsewhere)
-    closing: dict  # colour -> (δL, δU, δL_P, band area, observables) of the closing layer
-    opening: dict  # colour -> (δL, δU, δL_P, band area, observables) of the opening layer
+    closing: dict  # colour -> LayerWork of the closing band
+    opening: dict  # colour -> LayerWork of the opening band
     colour_map: list  # colour -> bool array of the front cells it contains
     bands: Bands
     solves: int
@@ -233,14 +247,10 @@ def _owner_sums(values: dict, owner: np.ndarray, owners: np.ndarray, weight: flo
         acc[k] += weight * np.bincount(slot, weights=v, minlength=owners.size)
 
 
-def _weighted(parts: list) -> tuple:
-    """Σ w · (δL, δU, δL_P, area, observables) of the whole-layer bands of one test."""
-    dL = sum(w * t[0] for w, t in parts)
-    dU = sum(w * t[1] for w, t in parts)
-    dLP = sum(w * t[2] for w, t in parts)
-    ar = sum(w * t[3] for w, t in parts)
-    obs = {k: sum(w * t[4][k] for w, t in parts) for k in parts[0][1][4]}
-    return float(dL), float(dU), float(dLP), float(ar), obs
+def _weighted(parts: list) -> LayerWork:
+    """Σ w · LayerWork of the whole-layer bands of one test (``parts``: (w, LayerWork))."""
+    obs = {k: sum(w * t.observables[k] for w, t in parts) for k in parts[0][1].observables}
+    return LayerWork(*(float(sum(w * t[i] for w, t in parts)) for i in range(4)), obs)
 
 
 class _Tester:
@@ -271,7 +281,7 @@ class _Tester:
     def close(self, D, psi):
         """Close the band D at fixed Δ: per-cell δL_j = ½ g_j(A) t_j(A ∪ D) a (Eq. 8, t = −p)
         and δL_P,j (adjoint weights ``psi`` on the grid, None when elastic); the layer's
-        (δL, δU, δL_P, area, observables) from Eqs. (8)-(10) with the actual fields."""
+        :class:`LayerWork` from Eqs. (8)-(10) with the actual fields."""
         a, p, u, w = self.area, self.p, self.u, self.w
         pp = self.solve(self.mask | D)
         cells = np.flatnonzero(D)
@@ -281,13 +291,13 @@ class _Tester:
         dU = 0.5 * a * (np.vdot(pp, up) - np.vdot(p, u))
         dLP = 0.5 * a * (np.vdot(up, p) - np.vdot(u, pp))
         dLPj = a * ppD * psi.ravel()[cells] if psi is not None else np.zeros(cells.size)
-        layer = (float(dL.sum()), float(dU), float(dLP), float(cells.size * a),
-                 self.observe(pp))
+        layer = LayerWork(float(dL.sum()), float(dU), float(dLP), float(cells.size * a),
+                          self.observe(pp))
         return cells, dL, dLPj, layer
 
     def open(self, R):
         """Open the band R at fixed Δ: δL_j = ½ g_j(A ∖ R) t_j(A) a, the gap of each opened
-        cell and the layer's (δL, δU, δL_P, area, observables)."""
+        cell and the layer's :class:`LayerWork`."""
         a, p, u, w = self.area, self.p, self.u, self.w
         if (self.mask & ~R).any():
             pr = self.solve(self.mask & ~R)
@@ -299,8 +309,8 @@ class _Tester:
         dL = -0.5 * a * gr * p.ravel()[cells]
         dU = 0.5 * a * (np.vdot(p, u) - np.vdot(pr, ur))
         dLP = 0.5 * a * (np.vdot(u, pr) - np.vdot(ur, p))
-        layer = (float(dL.sum()), float(dU), float(dLP), float(cells.size * a),
-                 self.observe(pr))
+        layer = LayerWork(float(dL.sum()), float(dU), float(dLP), float(cells.size * a),
+                          self.observe(pr))
         return cells, dL, gr, layer
 
 

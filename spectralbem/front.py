@@ -63,7 +63,7 @@ def at_front(tests, offset_out, base: dict, a0: float) -> dict:
             if ci in test:
                 frac = float(np.sum(part[sel] * ds[sel])) / (a0 * L)
                 for k in base:
-                    out[k] += frac * (test[ci][4][k] - base[k])
+                    out[k] += frac * (test[ci].observables[k] - base[k])
     return out
 
 

@@ -162,12 +162,11 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10, progress=Non
             l1, l2 = _edges_y_invariant(mask, r.offset_out, cell)
             G = []
             for ci in sorted(r.tests.closing):
-                _, dUc, _, Ac, _ = r.tests.closing[ci]
-                _, dUo, _, Ao, _ = r.tests.opening[ci]
+                close, open_ = r.tests.closing[ci], r.tests.opening[ci]
                 col = r.tests.colour_map[ci]
                 sel = col & np.isfinite(r.offset_out)  # no balanced edge: s, G undefined
                 s = float(r.offset_out[sel].mean()) if sel.any() else np.nan
-                Gc, Go = dUc / Ac, dUo / Ao
+                Gc, Go = close.dU / close.area, open_.dU / open_.area
                 # G at the balanced edge: the closing (opening) band's value stands at its
                 # start x_b (x_b − a0) in the seed's definition, at its midpoint when the edge
                 # is the sharp-crack one (shift a0/2, elastic scenes)

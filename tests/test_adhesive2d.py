@@ -77,7 +77,8 @@ def test_layer_identities():
                            mask0=np.abs((cell.x + np.pi) % (2 * np.pi) - np.pi)[:, None]
                            .repeat(2, 1) < 1.1)
         assert r.converged, r.message
-        for dL, dU, dLP, *_ in list(r.tests.closing.values()) + list(r.tests.opening.values()):
+        for w in list(r.tests.closing.values()) + list(r.tests.opening.values()):
+            dL, dU, dLP = w.dL, w.dU, w.dLP
             assert dL == pytest.approx(dU + dLP, rel=1e-8)  # acceptance 1e-8
             if v == 0.0:
                 assert abs(dLP) < 1e-10 * abs(dL)

@@ -62,7 +62,7 @@ API_MODULES = ("spectralbem", "spectralbem.scenes", "spectralbem.surfaces",
                "spectralbem.front",
                "spectralbem.sinusoid1d", "spectralbem.sweep", "spectralbem.io",
                "spectralbem.plotting", "spectralbem.plausibility", "spectralbem.reference",
-               "spectralbem.conventions")
+               "spectralbem.conventions", "spectralbem.kinds", "spectralbem.keys")
 
 
 def _first_line(obj) -> str:

@@ -147,3 +147,22 @@ class PressureLayer(Layer):
 
     def factor(self, q, nu):
         return s_pressure(np.asarray(q, dtype=float) * self.d)
+
+
+# -- scene kinds ([layer] kind = ...): spectralbem.kinds --------------------------------------
+def _register() -> None:
+    from .keys import HEIGHT, key
+    from .kinds import register
+
+    register("layer", "half_space", {}, lambda spec, context: HalfSpace())
+    register("layer", "glued",
+             {"thickness": key("number", "layer thickness d, glued to a rigid plate (Eq. A.4)",
+                               "m", *HEIGHT)},
+             lambda spec, context: GluedLayer(spec["thickness"]))
+    register("layer", "pressure",
+             {"thickness": key("number", "layer thickness d under uniform pressure (Eq. A.5)",
+                               "m", *HEIGHT)},
+             lambda spec, context: PressureLayer(spec["thickness"]))
+
+
+_register()

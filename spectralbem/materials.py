@@ -302,3 +302,98 @@ class Tabulated(Material):
         El = np.where(w == 0, 0.0, El)
         sign = np.sign(np.asarray(omega, dtype=float))
         return Es - 1j * sign * El
+
+
+# -- scene kinds ([material] kind = ...): spectralbem.kinds -----------------------------------
+def _check_sls(m: dict, grid: dict, problems: list) -> None:
+    from .keys import STIFFENING
+
+    if m.get("E0") and m.get("Einf"):
+        if m["Einf"] < m["E0"]:
+            problems.append(f"material.Einf: {m['Einf']!r} Pa is below material.E0 = "
+                            f"{m['E0']!r} Pa; allowed [E0, inf)")
+        elif m["Einf"] > STIFFENING * m["E0"]:
+            problems.append(f"material.Einf: {m['Einf']!r} Pa is more than {STIFFENING:g} "
+                            f"times material.E0 = {m['E0']!r} Pa; allowed [E0, "
+                            f"{STIFFENING * m['E0']:g}] Pa")
+
+
+def _check_prony(m: dict, grid: dict, problems: list) -> None:
+    from .keys import STIFFENING
+
+    if m.get("moduli") and m.get("times"):
+        if len(m["moduli"]) != len(m["times"]):
+            problems.append(f"material.times: {len(m['times'])} entries but material.moduli "
+                            f"has {len(m['moduli'])}; they must match")
+        if m.get("E_eq") and sum(m["moduli"]) > (STIFFENING - 1) * m["E_eq"]:
+            problems.append(f"material.moduli: their sum {sum(m['moduli']):g} Pa is more than "
+                            f"{STIFFENING:g} times material.E_eq = {m['E_eq']!r} Pa; allowed "
+                            f"a sum in (0, {(STIFFENING - 1) * m['E_eq']:g}] Pa")
+
+
+def _build_tabulated(m: dict, context) -> Tabulated | None:
+    """The modulus table of ``material.path`` (problems go to ``context.problems``)."""
+    from .keys import MODULUS
+    from .schema import short
+    from .surfaces import MIN_FILE_LIMIT, SurfaceError, check_input_file
+
+    problems = context.problems
+    try:
+        path = check_input_file(context.base / m["path"], "modulus table", MIN_FILE_LIMIT)
+        table = Tabulated.from_csv(path, nu=m["nu"])
+    except SurfaceError as exc:
+        problems.append(f"material.path: {exc}")
+        return None
+    except MaterialError as exc:
+        problems.append(f"material: {str(exc)[:300]}")
+        return None
+    except (ValueError, RecursionError) as exc:  # e.g. not UTF-8 text
+        problems.append(f"material.path: cannot read modulus table {short(m['path'])}: "
+                        f"{str(exc)[:200]}")
+        return None
+    lo, hi = MODULUS
+    moduli = np.abs(np.concatenate([table.storage, table.loss]))
+    if table.storage[0] < lo or moduli.max() > hi:
+        problems.append(f"material.path: the moduli of {short(m['path'])} span "
+                        f"[{min(table.storage):g}, {moduli.max():g}] Pa; allowed E' in "
+                        f"[{lo:g}, {hi:g}] Pa and |E''| ≤ {hi:g} Pa")
+        return None
+    return table
+
+
+def _register() -> None:
+    from .keys import MODULUS, TIME, key
+    from .kinds import register
+
+    def nu():
+        return key("number", "Poisson's ratio", "", -1, 0.5, True, default=0.5)
+
+    register("material", "elastic",
+             {"E": key("number", "Young's modulus", "Pa", *MODULUS), "nu": nu()},
+             lambda m, context: Elastic(m["E"], m["nu"]))
+    register("material", "sls",
+             {"E0": key("number", "relaxed (low-frequency) modulus E0", "Pa", *MODULUS),
+              "Einf": key("number", "glassy (high-frequency) modulus E∞, in [E0, 1e8 E0]", "Pa",
+                          *MODULUS),
+              "tau": key("number", "relaxation time τ of the creep function, Eq. (14)", "s",
+                         *TIME),
+              "nu": nu()},
+             lambda m, context: StandardLinearSolid(m["E0"], m["Einf"], m["tau"], m["nu"]),
+             _check_sls)
+    register("material", "prony",
+             {"E_eq": key("number", "equilibrium modulus (= E0)", "Pa", *MODULUS),
+              "moduli": key("numbers", "branch moduli E_k (E_eq + Σ E_k at most 1e8 E_eq)",
+                            "Pa", *MODULUS),
+              "times": key("numbers", "branch relaxation times τ_k", "s", *TIME),
+              "nu": nu()},
+             lambda m, context: Prony(m["E_eq"], tuple(m["moduli"]), tuple(m["times"]),
+                                      m["nu"]),
+             _check_prony)
+    register("material", "tabulated",
+             {"path": key("path", "CSV with columns ω (rad/s), E' (Pa), E'' (Pa, engineering "
+                          "sign); a regular file of at most 64 MiB"),
+              "nu": nu()},
+             _build_tabulated)
+
+
+_register()

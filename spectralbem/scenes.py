@@ -27,12 +27,11 @@ from pathlib import Path
 
 import numpy as np
 
+from . import kinds
 from .contact import ContactError, check_penetration
-from .layers import GluedLayer, HalfSpace, PressureLayer
-from .materials import Elastic, Material, MaterialError, Prony, StandardLinearSolid, Tabulated
+from .layers import HalfSpace, LayerError
+from .materials import Elastic, Material, MaterialError, StandardLinearSolid
 from .schema import (
-    HEIGHT,
-    MODULUS,
     SECTIONS,
     SceneError,
     short,
@@ -42,14 +41,10 @@ from .schema import (
 )
 from .spectral import Cell, GridError
 from .surfaces import (
-    MIN_FILE_LIMIT,
     SurfaceError,
-    bisinusoid,
     check_input_file,
     file_limit,
-    paraboloid,
     read_heights,
-    self_affine,
     sinusoid,
 )
 
@@ -350,35 +345,14 @@ def _build_seed(spec: dict) -> Scene:
                  spec, control=(name, steps))
 
 
-def _material(m: dict, base: Path, problems: list) -> Material | None:
+def _build(section: str, spec: dict, cell: Cell, base: Path, problems: list):
+    """The object of a kind section ([surface], [material], [layer]) by its registered
+    builder (:mod:`spectralbem.kinds`); its errors become problems (None then)."""
     try:
-        k = m["kind"]
-        if k == "elastic":
-            return Elastic(m["E"], m["nu"])
-        if k == "sls":
-            return StandardLinearSolid(m["E0"], m["Einf"], m["tau"], m["nu"])
-        if k == "prony":
-            return Prony(m["E_eq"], tuple(m["moduli"]), tuple(m["times"]), m["nu"])
-        path = check_input_file(base / m["path"], "modulus table", MIN_FILE_LIMIT)
-        table = Tabulated.from_csv(path, nu=m["nu"])
-    except SurfaceError as exc:
-        problems.append(f"material.path: {exc}")
+        return kinds.build(section, spec, kinds.Context(cell, base, problems))
+    except (MaterialError, SurfaceError, LayerError) as exc:
+        problems.append(f"{section}: {str(exc)[:300]}")
         return None
-    except MaterialError as exc:
-        problems.append(f"material: {str(exc)[:300]}")
-        return None
-    except (ValueError, RecursionError) as exc:  # e.g. not UTF-8 text
-        problems.append(f"material.path: cannot read modulus table {short(m['path'])}: "
-                        f"{str(exc)[:200]}")
-        return None
-    lo, hi = MODULUS
-    moduli = np.abs(np.concatenate([table.storage, table.loss]))
-    if table.storage[0] < lo or moduli.max() > hi:
-        problems.append(f"material.path: the moduli of {short(m['path'])} span "
-                        f"[{min(table.storage):g}, {moduli.max():g}] Pa; allowed E' in "
-                        f"[{lo:g}, {hi:g}] Pa and |E''| ≤ {hi:g} Pa")
-        return None
-    return table
 
 
 def _check_penetration(layer, nu, h, values):
@@ -388,51 +362,6 @@ def _check_penetration(layer, nu, h, values):
         check_penetration(layer, nu, h, values)
     except ContactError as exc:
         raise SceneError([f"control.{exc}"]) from exc
-
-
-def _layer(ly: dict):
-    return {"half_space": lambda: HalfSpace(), "glued": lambda: GluedLayer(ly["thickness"]),
-            "pressure": lambda: PressureLayer(ly["thickness"])}[ly["kind"]]()
-
-
-def _heights(sf: dict, g: dict, cell: Cell, base: Path, problems: list):
-    k = sf["kind"]
-    try:
-        if k == "sinusoid":
-            return sinusoid(cell, sf["amplitude"], sf["wavelength"])
-        if k == "bisinusoid":
-            return bisinusoid(cell, sf["amplitude"])
-        if k == "paraboloid":
-            return paraboloid(cell, sf["radius"])
-        if k == "self_affine":
-            return self_affine(cell, sf["hurst"], rolloff=2 * np.pi / sf["rolloff_wavelength"],
-                               cutoff=2 * np.pi / sf["cutoff_wavelength"],
-                               rms_height=sf["rms_height"],
-                               rms_slope=sf["rms_slope"], seed=sf["seed"])
-        h, size = read_heights(base / sf["path"], variable=sf["variable"], scale=sf["scale"],
-                               max_bytes=file_limit(cell.Nx * cell.Ny))
-    except SurfaceError as exc:
-        problems.append(f"surface{'.path' if k == 'file' else ''}: {exc}")
-        return None
-    if h.shape != cell.shape:
-        problems.append(f"surface.path: the height map has shape {h.shape}, the grid is "
-                        f"(grid.Nx, grid.Ny) = {cell.shape}")
-        return None
-    if size is not None:
-        for name, got, want in (("Lx", size[0], g["Lx"]), ("Ly", size[1], g["Ly"])):
-            if abs(got - want) > 1e-6 * want:
-                problems.append(f"grid.{name}: {want!r} m disagrees with the height map's "
-                                f"physical size {got!r} m")
-    bad = ~np.isfinite(h)
-    if bad.any():
-        problems.append(f"surface.path: the height map has {int(bad.sum())} non-finite values "
-                        f"(first at index {tuple(int(i) for i in np.argwhere(bad)[0])})")
-        return None
-    if float(np.abs(h).max()) > HEIGHT[1]:
-        problems.append(f"surface.path: heights × surface.scale reach {float(np.abs(h).max()):g} "
-                        f"m; allowed within ±{HEIGHT[1]:g} m (check surface.scale)")
-        return None
-    return h
 
 
 def _one_d_obstacles(spec: dict, material) -> list:
@@ -551,7 +480,7 @@ def _build_physical(spec: dict, base: Path) -> Scene:
         cell = Cell(g["Lx"], g["Ly"], g["Nx"], g["Ny"])
     except GridError as exc:
         raise SceneError(f"grid: {exc}") from exc
-    mat = _material(spec["material"], base, problems)
+    mat = _build("material", spec["material"], cell, base, problems)
     model = spec["scene"]["model"]
     if mat is not None and model != "grid2d":
         why = _one_d_obstacles(spec, mat)
@@ -567,13 +496,15 @@ def _build_physical(spec: dict, base: Path) -> Scene:
                   adhesive=adh["dgamma"] > 0 or adh["dgamma_map"] is not None,
                   steps=len(values), fields=spec["output"]["fields"])
     _check_memory("grid.Nx × grid.Ny", cell.shape, model=model, **memory)  # before any work
-    h = _heights(spec["surface"], g, cell, base, problems)
+    h = _build("surface", spec["surface"], cell, base, problems)
     dgamma = adh["dgamma"]
     if adh["dgamma_map"] is not None:
         dgamma = _dgamma_map(adh, cell, base, problems)
     if problems:
         raise SceneError(problems)
-    layer = _layer(spec["layer"])
+    layer = _build("layer", spec["layer"], cell, base, problems)
+    if problems:
+        raise SceneError(problems)
     scene = Scene(cell, mat, h, velocity, dgamma, adh["a0"] or 0.0,
                   values[0] if name == "mean_pressure" else None,
                   values[0] if name == "penetration" else None, "physical",

@@ -19,11 +19,19 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass
 
+from .keys import (  # noqa: F401 (re-exported: the schema's vocabulary)
+    HEIGHT,
+    LENGTH,
+    MODULUS,
+    REQUIRED,
+    STIFFENING,
+    TIME,
+    TOL_MIN,
+    Key,
+)
+from .keys import key as _k
 from .units import quantity
-
-REQUIRED = object()
 
 #: longest text of a value or a name quoted in a message (longer ones are cut, their length
 #: stated); scene values are at most this deep (a table of sections, a list of numbers)
@@ -79,63 +87,6 @@ class SceneError(ValueError):
         n = len(self.problems)
         head = "invalid scene" if n == 1 else f"invalid scene ({n} problems)"
         super().__init__(head + ":\n  " + "\n  ".join(self.problems))
-
-
-@dataclass(frozen=True)
-class Key:
-    """One scene key: its type, unit, allowed range or choices, default and meaning."""
-
-    type: str  # number | integer | string | boolean | numbers | number_or_numbers | path
-    doc: str
-    units: str = ""
-    lo: float | None = None
-    hi: float | None = None
-    lo_open: bool = False  # lo itself is excluded
-    choices: tuple = ()
-    default: object = REQUIRED
-    tiny: float | None = None  # smallest magnitude allowed besides 0 (None: no floor)
-    hi_open: bool = False  # hi itself is excluded
-
-    def range_text(self) -> str:
-        if self.choices:
-            return "one of " + ", ".join(str(c) for c in self.choices)
-        if self.lo is None and self.hi is None:
-            return "any finite value" if self.type.startswith("number") else ""
-        lo = "-inf" if self.lo is None else f"{self.lo:g}"
-        hi = "inf" if self.hi is None else f"{self.hi:g}"
-        if self.tiny is not None:  # 0, or a magnitude in [tiny, ...]
-            t = f"{self.tiny:g}"
-            if self.lo is not None and self.lo < 0:
-                return f"0 or ±[{t}, {hi}]" if -self.lo == self.hi else (
-                    f"[{lo}, -{t}], 0 or [{t}, {hi}]")
-            return f"0 or [{t}, {hi}]"
-        return f"{'(' if self.lo_open else '['}{lo}, {hi}{')' if self.hi_open else ']'}"
-
-    def allows(self, x: float) -> bool:
-        """Whether the finite number ``x`` lies in the allowed range."""
-        if (self.lo is not None and (x <= self.lo if self.lo_open else x < self.lo)) or (
-                self.hi is not None and (x >= self.hi if self.hi_open else x > self.hi)):
-            return False
-        return self.tiny is None or x == 0 or abs(x) >= self.tiny
-
-
-def _k(type_, doc, units="", lo=None, hi=None, lo_open=False, choices=(), default=REQUIRED,
-       tiny=None, hi_open=False):
-    return Key(type_, doc, units, lo, hi, lo_open, tuple(choices), default, tiny, hi_open)
-
-
-#: magnitude ranges of physical inputs (SI): wide enough for any continuum contact problem,
-#: narrow enough that no product or quotient of them over- or underflows a double (values
-#: such as 5e-324 or 1e308 gave "float division by zero", "Numerical result out of range" or
-#: a singular matrix deep inside a solve)
-LENGTH = (1e-9, 1e3)  # m: cell sizes, wavelengths, radii
-HEIGHT = (1e-12, 1e3)  # m: amplitudes, rms heights, layer thicknesses
-MODULUS = (1.0, 1e13)  # Pa
-TIME = (1e-12, 1e12)  # s
-#: the largest ratio E∞/E0 (the seed's β range): the kernel then spans 8 decades
-STIFFENING = 1e8
-#: the smallest relative tolerance of the solves that double precision can reach
-TOL_MIN = 1e-14
 
 
 # -- sections without kinds ------------------------------------------------------------------
@@ -233,80 +184,11 @@ SECTIONS = {
     },
 }
 
-# -- sections with a 'kind' ------------------------------------------------------------------
-KINDS = {
-    "surface": {
-        "sinusoid": {
-            "amplitude": _k("number", "Λ in h = Λ cos(2πx/λ), invariant along y", "m",
-                            *HEIGHT),
-            "wavelength": _k("number", "λ; must divide Lx (default Lx)", "m", 0, None, True,
-                             default=None),
-        },
-        "bisinusoid": {
-            "amplitude": _k("number", "Λ in h = Λ cos(2πx/Lx) cos(2πy/Ly)", "m", *HEIGHT),
-        },
-        "paraboloid": {
-            "radius": _k("number", "sphere radius R, h = -r²/(2R) about the cell centre", "m",
-                         *LENGTH),
-        },
-        "self_affine": {
-            "hurst": _k("number", "Hurst exponent H", "", 0, 1, True, hi_open=True),
-            "rolloff_wavelength": _k("number", "roll-off wavelength 2π/q_r (at most the cell)",
-                                     "m", 0, None, True),
-            "cutoff_wavelength": _k("number", "short cut-off wavelength 2π/q_s, physical (the "
-                                    "surface is the same on every grid that holds it): "
-                                    "longer than the grid's Nyquist wavelength (2 cells), "
-                                    "shorter than rolloff_wavelength", "m", 0, None, True),
-            "rms_height": _k("number", "rms height (give this or rms_slope)", "m", *HEIGHT,
-                             default=None),
-            "rms_slope": _k("number", "rms slope |∇h|", "", 1e-9, 100, default=None),
-            "seed": _k("integer", "random seed (reproducible surfaces)", "", 0, 2**63 - 1,
-                       default=0),
-        },
-        "file": {
-            "path": _k("path", "height map: .npy, .txt/.csv matrix, .nc, or an instrument "
-                       "format read by SurfaceTopography (optional extra); relative to the "
-                       "scene file; a regular file of at most 64 bytes per grid cell (and "
-                       "at least 64 MiB); heights (× scale) within ±1e3 m"),
-            "variable": _k("string", "netCDF variable holding the heights", default="heights"),
-            "scale": _k("number", "factor converting the file's values to m", "m/unit",
-                        1e-15, 1e3, default=1.0),
-        },
-    },
-    "material": {
-        "elastic": {
-            "E": _k("number", "Young's modulus", "Pa", *MODULUS),
-            "nu": _k("number", "Poisson's ratio", "", -1, 0.5, True, default=0.5),
-        },
-        "sls": {
-            "E0": _k("number", "relaxed (low-frequency) modulus E0", "Pa", *MODULUS),
-            "Einf": _k("number", "glassy (high-frequency) modulus E∞, in [E0, 1e8 E0]", "Pa",
-                       *MODULUS),
-            "tau": _k("number", "relaxation time τ of the creep function, Eq. (14)", "s",
-                      *TIME),
-            "nu": _k("number", "Poisson's ratio", "", -1, 0.5, True, default=0.5),
-        },
-        "prony": {
-            "E_eq": _k("number", "equilibrium modulus (= E0)", "Pa", *MODULUS),
-            "moduli": _k("numbers", "branch moduli E_k (E_eq + Σ E_k at most 1e8 E_eq)", "Pa",
-                         *MODULUS),
-            "times": _k("numbers", "branch relaxation times τ_k", "s", *TIME),
-            "nu": _k("number", "Poisson's ratio", "", -1, 0.5, True, default=0.5),
-        },
-        "tabulated": {
-            "path": _k("path", "CSV with columns ω (rad/s), E' (Pa), E'' (Pa, engineering "
-                       "sign); a regular file of at most 64 MiB"),
-            "nu": _k("number", "Poisson's ratio", "", -1, 0.5, True, default=0.5),
-        },
-    },
-    "layer": {
-        "half_space": {},
-        "glued": {"thickness": _k("number", "layer thickness d, glued to a rigid plate "
-                                  "(Eq. A.4)", "m", *HEIGHT)},
-        "pressure": {"thickness": _k("number", "layer thickness d under uniform pressure "
-                                     "(Eq. A.5)", "m", *HEIGHT)},
-    },
-}
+# -- sections with a 'kind': declared beside their classes (spectralbem.kinds) ----------------
+from . import layers, materials, surfaces  # noqa: E402,F401  (each registers its kinds)
+from .kinds import KEYS as KINDS  # noqa: E402  (section -> kind -> {key: Key}, live)
+from .kinds import check as _check_kind  # noqa: E402
+
 KIND_DEFAULTS = {"layer": "half_space"}
 
 PHYSICAL = ("grid", "surface", "material", "layer", "adhesion", "motion", "control", "solver",
@@ -506,25 +388,11 @@ def _check_seed(out, problems):
 
 
 def _check_physical(out, problems):
-    g, sf = out.get("grid") or {}, out.get("surface") or {}
-    mat, ctl = out.get("material") or {}, out.get("control") or {}
+    g, ctl = out.get("grid") or {}, out.get("control") or {}
     adh, mot = out.get("adhesion") or {}, out.get("motion") or {}
-    if mat.get("kind") == "sls" and mat.get("E0") and mat.get("Einf"):
-        if mat["Einf"] < mat["E0"]:
-            problems.append(f"material.Einf: {mat['Einf']!r} Pa is below material.E0 = "
-                            f"{mat['E0']!r} Pa; allowed [E0, inf)")
-        elif mat["Einf"] > STIFFENING * mat["E0"]:
-            problems.append(f"material.Einf: {mat['Einf']!r} Pa is more than {STIFFENING:g} "
-                            f"times material.E0 = {mat['E0']!r} Pa; allowed [E0, "
-                            f"{STIFFENING * mat['E0']:g}] Pa")
-    if mat.get("kind") == "prony" and mat.get("moduli") and mat.get("times"):
-        if len(mat["moduli"]) != len(mat["times"]):
-            problems.append(f"material.times: {len(mat['times'])} entries but material.moduli "
-                            f"has {len(mat['moduli'])}; they must match")
-        if mat.get("E_eq") and sum(mat["moduli"]) > (STIFFENING - 1) * mat["E_eq"]:
-            problems.append(f"material.moduli: their sum {sum(mat['moduli']):g} Pa is more than "
-                            f"{STIFFENING:g} times material.E_eq = {mat['E_eq']!r} Pa; allowed "
-                            f"a sum in (0, {(STIFFENING - 1) * mat['E_eq']:g}] Pa")
+    for sec in ("surface", "material", "layer"):
+        if out.get(sec):
+            _check_kind(sec, out[sec], g, problems)
     if "control" in out and (ctl.get("mean_pressure") is None) == (ctl.get("penetration") is None):
         problems.append("control.mean_pressure / control.penetration: give exactly one")
     if mot.get("velocity") is not None:
@@ -559,32 +427,3 @@ def _check_physical(out, problems):
             # a flaw wider than the cell would open the whole contact at once
             problems.append(f"adhesion.flaw_radius: {fr!r} m is larger than half the cell; "
                             f"allowed (0, {0.5 * max(g['Lx'], g['Ly']):.4g}] m")
-        if sf.get("kind") == "sinusoid" and sf.get("wavelength"):
-            n = g["Lx"] / sf["wavelength"]
-            if not n <= g["Nx"] / 2:  # also inf: a wavelength far below one cell
-                problems.append(f"surface.wavelength: {sf['wavelength']!r} m is shorter than "
-                                f"two cells ({2 * g['Lx'] / g['Nx']:.6g} m); allowed grid.Lx/k "
-                                f"m for a whole k in [1, {g['Nx'] // 2}]")
-            elif abs(n - round(n)) > 1e-9 or round(n) < 1:
-                problems.append(f"surface.wavelength: {sf['wavelength']!r} m must divide "
-                                f"grid.Lx = {g['Lx']!r} m a whole number of times")
-        cut = sf.get("cutoff_wavelength")
-        if sf.get("kind") == "self_affine" and sf.get("rolloff_wavelength") and cut:
-            if cut >= sf["rolloff_wavelength"]:
-                problems.append(f"surface.cutoff_wavelength: {cut!r} m must be shorter than "
-                                f"surface.rolloff_wavelength = {sf['rolloff_wavelength']!r} m")
-            # the grid holds modes |k| ≤ (N - 1)//2 along an axis (never the Nyquist mode):
-            # the band |k| ≤ L/cut needs cut > L/((N - 1)//2 + 1), 2 cells for an even N
-            # (the same rule, and band-edge tolerance 1e-10, as surfaces.self_affine)
-            lo = max(g[f"L{a}"] / ((g[f"N{a}"] - 1) // 2 + 1) for a in "xy")
-            if cut <= lo * (1 + 1e-10):
-                problems.append(f"surface.cutoff_wavelength: {cut!r} m is too short for the "
-                                "grid (at or beyond its Nyquist wavelength, 2 cells for an "
-                                f"even N); allowed ({lo:.6g}, {sf['rolloff_wavelength']!r}) m, "
-                                "or refine the grid")
-            if sf["rolloff_wavelength"] > max(g["Lx"], g["Ly"]):
-                problems.append(f"surface.rolloff_wavelength: {sf['rolloff_wavelength']!r} m "
-                                f"exceeds the cell; allowed (0, {max(g['Lx'], g['Ly'])!r}] m")
-    if sf.get("kind") == "self_affine" and (sf.get("rms_height") is None) == (
-            sf.get("rms_slope") is None):
-        problems.append("surface.rms_height / surface.rms_slope: give exactly one")

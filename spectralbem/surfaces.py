@@ -329,3 +329,123 @@ def _read_heights(path: Path, variable: str, scale: float):
         raise SurfaceError(f"height map {_quote(path)} must be a 2D array, got shape {h.shape}")
     with np.errstate(over="ignore"):
         return h * scale, size
+
+
+# -- scene kinds ([surface] kind = ...): spectralbem.kinds ------------------------------------
+def _check_sinusoid(sf: dict, g: dict, problems: list) -> None:
+    if not (sf.get("wavelength") and all(g.get(k) for k in ("Lx", "Nx"))):
+        return
+    n = g["Lx"] / sf["wavelength"]
+    if not n <= g["Nx"] / 2:  # also inf: a wavelength far below one cell
+        problems.append(f"surface.wavelength: {sf['wavelength']!r} m is shorter than two "
+                        f"cells ({2 * g['Lx'] / g['Nx']:.6g} m); allowed grid.Lx/k m for a "
+                        f"whole k in [1, {g['Nx'] // 2}]")
+    elif abs(n - round(n)) > 1e-9 or round(n) < 1:
+        problems.append(f"surface.wavelength: {sf['wavelength']!r} m must divide grid.Lx = "
+                        f"{g['Lx']!r} m a whole number of times")
+
+
+def _check_self_affine(sf: dict, g: dict, problems: list) -> None:
+    cut, roll = sf.get("cutoff_wavelength"), sf.get("rolloff_wavelength")
+    if roll and cut and all(g.get(k) for k in ("Lx", "Ly", "Nx", "Ny")):
+        if cut >= roll:
+            problems.append(f"surface.cutoff_wavelength: {cut!r} m must be shorter than "
+                            f"surface.rolloff_wavelength = {roll!r} m")
+        # the grid holds modes |k| ≤ (N - 1)//2 along an axis (never the Nyquist mode): the
+        # band |k| ≤ L/cut needs cut > L/((N - 1)//2 + 1), 2 cells for an even N (the same
+        # rule, and band-edge tolerance 1e-10, as self_affine)
+        lo = max(g[f"L{a}"] / ((g[f"N{a}"] - 1) // 2 + 1) for a in "xy")
+        if cut <= lo * (1 + 1e-10):
+            problems.append(f"surface.cutoff_wavelength: {cut!r} m is too short for the grid "
+                            "(at or beyond its Nyquist wavelength, 2 cells for an even N); "
+                            f"allowed ({lo:.6g}, {roll!r}) m, or refine the grid")
+        if roll > max(g["Lx"], g["Ly"]):
+            problems.append(f"surface.rolloff_wavelength: {roll!r} m exceeds the cell; "
+                            f"allowed (0, {max(g['Lx'], g['Ly'])!r}] m")
+    if (sf.get("rms_height") is None) == (sf.get("rms_slope") is None):
+        problems.append("surface.rms_height / surface.rms_slope: give exactly one")
+
+
+def _build_file(sf: dict, context):
+    """The height map of ``surface.path`` (m), checked against the grid."""
+    from .keys import HEIGHT
+
+    cell, problems = context.cell, context.problems
+    try:
+        h, size = read_heights(context.base / sf["path"], variable=sf["variable"],
+                               scale=sf["scale"], max_bytes=file_limit(cell.Nx * cell.Ny))
+    except SurfaceError as exc:
+        problems.append(f"surface.path: {exc}")
+        return None
+    if h.shape != cell.shape:
+        problems.append(f"surface.path: the height map has shape {h.shape}, the grid is "
+                        f"(grid.Nx, grid.Ny) = {cell.shape}")
+        return None
+    if size is not None:
+        for name, got, want in (("Lx", size[0], cell.Lx), ("Ly", size[1], cell.Ly)):
+            if abs(got - want) > 1e-6 * want:
+                problems.append(f"grid.{name}: {want!r} m disagrees with the height map's "
+                                f"physical size {got!r} m")
+    bad = ~np.isfinite(h)
+    if bad.any():
+        problems.append(f"surface.path: the height map has {int(bad.sum())} non-finite values "
+                        f"(first at index {tuple(int(i) for i in np.argwhere(bad)[0])})")
+        return None
+    if float(np.abs(h).max()) > HEIGHT[1]:
+        problems.append(f"surface.path: heights × surface.scale reach {float(np.abs(h).max()):g} "
+                        f"m; allowed within ±{HEIGHT[1]:g} m (check surface.scale)")
+        return None
+    return h
+
+
+def _register() -> None:
+    from .keys import HEIGHT, LENGTH, key
+    from .kinds import register
+
+    register("surface", "sinusoid",
+             {"amplitude": key("number", "Λ in h = Λ cos(2πx/λ), invariant along y", "m",
+                               *HEIGHT),
+              "wavelength": key("number", "λ; must divide Lx (default Lx)", "m", 0, None, True,
+                                default=None)},
+             lambda sf, c: sinusoid(c.cell, sf["amplitude"], sf["wavelength"]),
+             _check_sinusoid)
+    register("surface", "bisinusoid",
+             {"amplitude": key("number", "Λ in h = Λ cos(2πx/Lx) cos(2πy/Ly)", "m", *HEIGHT)},
+             lambda sf, c: bisinusoid(c.cell, sf["amplitude"]))
+    register("surface", "paraboloid",
+             {"radius": key("number", "sphere radius R, h = -r²/(2R) about the cell centre",
+                            "m", *LENGTH)},
+             lambda sf, c: paraboloid(c.cell, sf["radius"]))
+    register("surface", "self_affine",
+             {"hurst": key("number", "Hurst exponent H", "", 0, 1, True, hi_open=True),
+              "rolloff_wavelength": key("number", "roll-off wavelength 2π/q_r (at most the "
+                                        "cell)", "m", 0, None, True),
+              "cutoff_wavelength": key("number", "short cut-off wavelength 2π/q_s, physical "
+                                       "(the surface is the same on every grid that holds "
+                                       "it): longer than the grid's Nyquist wavelength (2 "
+                                       "cells), shorter than rolloff_wavelength", "m", 0, None,
+                                       True),
+              "rms_height": key("number", "rms height (give this or rms_slope)", "m", *HEIGHT,
+                                default=None),
+              "rms_slope": key("number", "rms slope |∇h|", "", 1e-9, 100, default=None),
+              "seed": key("integer", "random seed (reproducible surfaces)", "", 0, 2**63 - 1,
+                          default=0)},
+             lambda sf, c: self_affine(c.cell, sf["hurst"],
+                                       rolloff=2 * np.pi / sf["rolloff_wavelength"],
+                                       cutoff=2 * np.pi / sf["cutoff_wavelength"],
+                                       rms_height=sf["rms_height"], rms_slope=sf["rms_slope"],
+                                       seed=sf["seed"]),
+             _check_self_affine)
+    register("surface", "file",
+             {"path": key("path", "height map: .npy, .txt/.csv matrix, .nc, or an instrument "
+                          "format read by SurfaceTopography (optional extra); relative to the "
+                          "scene file; a regular file of at most 64 bytes per grid cell (and "
+                          "at least 64 MiB); heights (× scale) within ±1e3 m"),
+              "variable": key("string", "netCDF variable holding the heights",
+                              default="heights"),
+              "scale": key("number", "factor converting the file's values to m", "m/unit",
+                           1e-15, 1e3, default=1.0)},
+             _build_file)
+
+
+_register()

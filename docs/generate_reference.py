@@ -62,7 +62,8 @@ API_MODULES = ("spectralbem", "spectralbem.scenes", "spectralbem.surfaces",
                "spectralbem.front",
                "spectralbem.sinusoid1d", "spectralbem.sweep", "spectralbem.io",
                "spectralbem.plotting", "spectralbem.plausibility", "spectralbem.reference",
-               "spectralbem.conventions", "spectralbem.kinds", "spectralbem.keys")
+               "spectralbem.conventions", "spectralbem.kinds", "spectralbem.keys",
+               "spectralbem.backend")
 
 
 def _first_line(obj) -> str:

@@ -37,6 +37,10 @@ def _info(args) -> int:
     print(f"python {platform.python_version()}, " + ", ".join(
         f"{d} {version(d)}" for d in ("numpy", "scipy", "xarray", "netCDF4", "dask",
                                       "distributed", "numba", "pyFFTW", "matplotlib")))
+    from . import backend
+
+    print(f"compute backend: {backend.get().name} (SPECTRALBEM_BACKEND; available: "
+          f"{', '.join(backend.names())})")
     print(f"FFT backend: {fft.backend()}, threads: {fft.get_threads()}")
     print(f"compiled loops: {kernels.backend()} (SPECTRALBEM_JIT=0 selects the numpy twins)")
     return 0

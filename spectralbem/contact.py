@@ -27,7 +27,6 @@ import math
 
 import numpy as np
 
-from . import kernels
 from .conventions import control
 from .masked import solve_masked
 from .spectral import SpectralOperator
@@ -215,6 +214,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     hrange = max(float(h.max() - h.min()), np.finfo(float).tiny)
     load = mean_pressure is not None
     pl = op.plan
+    loops = op.backend.loops  # the fused loops (spectralbem.kernels) of the operator's backend
     kn = np.ascontiguousarray(op.kernel.real / n)  # kernel with the 1/N of the inverse
     mult = np.ascontiguousarray(op.cell.rfft_weights()[0])  # Parseval column multiplicities
     k_sparse = sparse_max(n)
@@ -313,7 +313,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             break
         # the gap on the contact set and the overlap scan of the other cells (the deepest
         # overlap, 0: none)
-        gbar, e_sum, p_sum, G, g_t, t_mean, n_ov, overlap_min = kernels.gap_state(
+        gbar, e_sum, p_sum, G, g_t, t_mean, n_ov, overlap_min = loops.gap_state(
             u, idx, wc, pc_cur, tc, load, gc, w_out, ov_buf)
         # convergence test on the current state: complementarity and no overlap
         err = e_sum / (p_sum * hrange)
@@ -334,10 +334,10 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             beta = 0.0
         if refill:  # the FFT input rewritten whole (see REFILL_BYTES)
             rin.fill(0.0)
-        gc_tc = kernels.direction(gc, tc, beta, t_mean, rin, idx)
+        gc_tc = loops.direction(gc, tc, beta, t_mean, rin, idx)
         G_old = G
         T = pl.forward_buffer()  # the plan's output buffer
-        denom = kernels.parseval_sum(T, kn, mult)  # ⟨C t, t⟩ by Parseval
+        denom = loops.parseval_sum(T, kn, mult)  # ⟨C t, t⟩ by Parseval
         if denom > 0:
             tau = gc_tc / denom
         elif n_ov and G == 0.0:
@@ -348,7 +348,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             # overlap.  A spike (one cell above a flat surface) under load starts this way
             T.fill(0.0)  # t = 0: the direction's transform, for the correction below
             if c_self is None:
-                c_self = kernels.parseval_sum(np.ones_like(T), kn, mult)
+                c_self = loops.parseval_sum(np.ones_like(T), kn, mult)
             tau = 1.0 / c_self
             if not (math.isfinite(tau) and tau > 0):
                 message = f"search direction degenerate at iteration {it} (error {err:.3e})"
@@ -357,7 +357,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             message = f"search direction degenerate at iteration {it} (error {err:.3e})"
             break
         # pc = pc_cur − τ·tc; its negative cells are clipped; total = Σ max(pc, 0)
-        pc, n_clip, total = kernels.pk_step(pc_cur, tc, tau, clip_buf)
+        pc, n_clip, total = loops.pk_step(pc_cur, tc, tau, clip_buf)
         ov = ov_buf[:n_ov]  # the joining cells (sorted)
         if restart_on_join and n_ov:
             G_old = 0.0  # PK (1999): the next direction is the gradient
@@ -367,7 +367,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         if changed:
             # the projection correction c: c = −pc on clipped cells, the overlap-driven
             # pressure pov on joining cells; p̂ ← p̂ − τD with D = FFT(t − c/τ)
-            cells, vals, pov, pov_sum = kernels.corrections(
+            cells, vals, pov, pov_sum = loops.corrections(
                 idx, clip_buf[:n_clip], pc, tau, ov, u, w, gbar)
             total += pov_sum
             if not recompute and n_clip + n_ov <= k_sparse:
@@ -383,7 +383,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             message = f"pressure collapsed at iteration {it}: the load cannot be carried"
             break
         if changed:  # drop the clipped cells (pc < 0), merge the joining ones in, rescale
-            idx, tc, pc, wc = kernels.merge_set(idx, tc, pc, wc, ov, pov, w, scale, w_out, rin)
+            idx, tc, pc, wc = loops.merge_set(idx, tc, pc, wc, ov, pov, w, scale, w_out, rin)
             gc = np.empty(idx.size)
         else:
             pc *= scale
@@ -394,7 +394,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             S = 1.0
             np.multiply(P, kn, out=spec)
         else:
-            kernels.spectrum_step(P, D, -tau / S, kn, S * scale, spec)
+            loops.spectrum_step(P, D, -tau / S, kn, S * scale, spec)
             S *= scale
         u = inverse()
         pc_cur = pc

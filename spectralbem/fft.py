@@ -158,16 +158,18 @@ class RealFFT2:
         return self.inverse_buffer()
 
 
-def plan(shape, threads: int | None = None) -> RealFFT2:
-    """The cached transform pair for ``shape`` (planned once per shape and thread count).
+def plan(shape, threads: int | None = None, use_fftw: bool = _HAVE_PYFFTW) -> RealFFT2:
+    """The cached transform pair for ``shape`` (planned once per shape and thread count;
+    ``use_fftw=False``: numpy's transforms behind the same interface).
 
     Plans are per thread of the caller too, because their buffers are not shareable.
     """
     threads = _THREADS if threads is None else int(threads)
-    key = (tuple(shape), threads, _HAVE_PYFFTW, threading.get_ident(), planner())
+    use_fftw = bool(use_fftw and _HAVE_PYFFTW)
+    key = (tuple(shape), threads, use_fftw, threading.get_ident(), planner())
     with _LOCK:
         p = _PLANS.get(key)
         if p is None:
-            p = RealFFT2(shape, threads)
+            p = RealFFT2(shape, threads, use_fftw)
             _PLANS[key] = p
     return p

@@ -75,9 +75,10 @@ class PackedSystem:
         """(F⁻¹[k] F P v)|_A, projected: one FFT pair."""
         self.pairs += 1
         pl = self.pl
-        self.rin.put(self.idx, v)
+        be = self.op.backend
+        be.scatter(self.rin, self.idx, v)
         np.multiply(pl.forward_buffer(), k, out=pl.spectrum_buffer)
-        out = pl.inverse_buffer().reshape(-1).take(self.idx)
+        out = be.gather(pl.inverse_buffer().reshape(-1), self.idx)
         if self.project:
             out -= out.mean()
         return out
@@ -208,10 +209,11 @@ def solve_packed(op: SpectralOperator, mask: np.ndarray, p: np.ndarray, w: np.nd
     sys_ = PackedSystem(op, mask, load)
     if sys_.n == 0:
         return np.zeros(p.shape), 0, 0, 0.0
-    x0 = p.reshape(-1).take(sys_.idx)
+    be = op.backend
+    x0 = be.gather(p.reshape(-1), sys_.idx)
     if load:
         x0 += (total - x0.sum()) / sys_.n
-    b = w.reshape(-1).take(sys_.idx)
+    b = be.gather(w.reshape(-1), sys_.idx)
     if load:
         b = b - b.mean()
     r0 = b - sys_.operator(x0)
@@ -222,7 +224,7 @@ def solve_packed(op: SpectralOperator, mask: np.ndarray, p: np.ndarray, w: np.nd
     krylov = fused_cg if op.symmetric else fused_gmres
     x, used, rel = krylov(sys_, r0, min(rtol / max(rr, 1e-300), forcing), maxiter)
     out = np.zeros(p.size)
-    out.put(sys_.idx, x0 + x)
+    be.scatter(out, sys_.idx, x0 + x)
     return out.reshape(p.shape), used, sys_.pairs, rel * rr
 
 

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import fft as _fft
+from . import backend as _backend
 from .layers import HalfSpace, Layer
 from .materials import Material
 
@@ -137,10 +137,14 @@ class SpectralOperator:
     layer : Layer, default HalfSpace()
     velocity : (vx, vy) in m/s, the velocity of the indenter relative to the slab (the fields
         move as f(x - v t)); only used when the material is viscoelastic.
+    threads : FFT threads (None: :func:`spectralbem.fft.get_threads`).
+    backend : the compute backend, a name or a :class:`~spectralbem.backend.Backend`
+        (None: ``SPECTRALBEM_BACKEND``, default ``"cpu"``).
     """
 
     def __init__(self, cell: Cell, material: Material, layer: Layer | None = None,
-                 velocity=(0.0, 0.0), threads: int | None = None):
+                 velocity=(0.0, 0.0), threads: int | None = None, backend=None):
+        self.backend = _backend.get(backend)
         self.cell = cell
         self.material = material
         self.layer = HalfSpace() if layer is None else layer
@@ -208,7 +212,7 @@ class SpectralOperator:
         from .materials import Elastic
 
         return SpectralOperator(self.cell, Elastic(self.material.E0, self.material.nu),
-                                self.layer, (0.0, 0.0), self.threads)
+                                self.layer, (0.0, 0.0), self.threads, self.backend)
 
     def _symmetric_with(self, kernel) -> "SpectralOperator":
         if self.symmetric:
@@ -224,16 +228,14 @@ class SpectralOperator:
 
     @property
     def plan(self):
+        """The backend's transform pair for this grid (its buffers are shared)."""
         if self._plan is None:
-            self._plan = _fft.plan(self.cell.shape, self.threads)
+            self._plan = self.backend.plan(self.cell.shape, self.threads)
         return self._plan
 
     # -- application ------------------------------------------------------------------------
     def _apply(self, p: np.ndarray, k: np.ndarray, out: np.ndarray | None) -> np.ndarray:
-        pl = self.plan
-        P = pl.forward(p)
-        np.multiply(P, k, out=pl.spectrum_buffer)
-        r = pl.inverse_buffer()
+        r = self.backend.apply_kernel(self.plan, p, k)
         if out is None:
             return r.copy()
         out[...] = r
@@ -282,7 +284,7 @@ class SpectralOperator:
     # -- energies and friction --------------------------------------------------------------
     def elastic_energy(self, p: np.ndarray) -> float:
         """U = ½ ∫ p u d²x = ½ ∫ p C^E p (Eq. 5 / B.5 with the compressive p), J per cell."""
-        P = np.fft.rfft2(p)
+        P = self.plan.forward(p)
         w = self.cell.rfft_weights()
         n = self.cell.Nx * self.cell.Ny
         return 0.5 * self.cell.cell_area * float(np.sum(w * self.kernel.real * np.abs(P) ** 2) / n)
@@ -295,7 +297,7 @@ class SpectralOperator:
         """
         # the multiplier of the discrete derivative (Nyquist components zeroed)
         dm = self.cell.derivative_multiplier(direction).imag
-        P = np.fft.rfft2(p)
+        P = self.plan.forward(p)
         w = self.cell.rfft_weights()
         n = self.cell.Nx * self.cell.Ny
         s = np.sum(w * dm * self.kernel.imag * np.abs(P) ** 2) / n if self.viscoelastic else 0.0

@@ -32,7 +32,8 @@ from .masked import solve_masked
 from .spectral import SpectralOperator
 from .state import ContactState, Solution, status_of
 
-__all__ = ["solve_contact", "polonsky_keer", "active_set", "friction", "ContactError"]
+__all__ = ["solve_contact", "polonsky_keer", "active_set", "full_contact", "friction",
+           "ContactError"]
 
 
 class ContactError(ValueError):
@@ -115,7 +116,7 @@ def check_penetration(layer, nu: float, heights, values) -> None:
             f"(allowed (-inf, {limit!r}))")
 
 
-def _full_contact(op, h, mean_pressure=None, penetration=None):
+def full_contact(op, h, mean_pressure=None, penetration=None):
     """Exact full-contact solution: u = w everywhere, solved mode by mode."""
     cell = op.cell
     hmax = float(h.max())
@@ -186,7 +187,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     Real-space work is done on packed index arrays of the contact set; the full-grid passes
     are the fused loops of :mod:`spectralbem.kernels`.  Under load control the search
     direction is kept mean-free on the contact (the mean-gap term of PK).  A full contact is
-    recognised by its exact mode-by-mode solution (:func:`_full_contact`, one transform
+    recognised by its exact mode-by-mode solution (:func:`full_contact`, one transform
     pair), tried once the contact set covers :data:`FULL_CHECK` of the cells, or before the
     start when the kernel spans more than :data:`SPAN_SLOW`.
 
@@ -225,12 +226,12 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     # set first covers FULL_CHECK of the cells (one transform pair that a partial contact
     # of smaller extent never pays)
     # (under penetration control a zero-mean layer has no full-contact solution at a
-    # prescribed Δ: _full_contact returns None there)
+    # prescribed Δ: full_contact returns None there)
     check_full = load or kn[0, 0] != 0
     full = None
     if check_full and op.span > SPAN_SLOW:
         check_full = False
-        full = _full_contact(op, h, mean_pressure, penetration)
+        full = full_contact(op, h, mean_pressure, penetration)
         if np.all(full[0] >= 0):
             return Solution(full[0], op.apply(full[0]), full[1], full[0] > 0, 0, True,
                             "full contact", fft_pairs=2.0)
@@ -296,7 +297,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         if check_full and idx.size >= FULL_CHECK * n:
             check_full = False
             u = u.copy()  # the check's transforms reuse the plan's buffers (u, rin)
-            full = _full_contact(op, h, mean_pressure, penetration)
+            full = full_contact(op, h, mean_pressure, penetration)
             rin[:] = 0.0  # (direction writes rin on the contact set)
             forwards += 1
             inverses += 1
@@ -458,7 +459,7 @@ def active_set(op: SpectralOperator, heights, *, mean_pressure=None, penetration
     outer = 0
     for outer in range(1, max_outer + 1):
         if np.all(mask):
-            full = _full_contact(op, h, mean_pressure, penetration)
+            full = full_contact(op, h, mean_pressure, penetration)
             if full is not None:
                 p, delta = full
                 if np.all(p >= 0):

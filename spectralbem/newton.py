@@ -120,7 +120,7 @@ def newton_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetra
     :class:`~spectralbem.state.Solution`: ``iterations`` counts operator applications of the
     Krylov solves.
     """
-    from .contact import _check_controls, _full_contact, untouched
+    from .contact import _check_controls, full_contact, untouched
 
     h = _check_controls(heights, op, mean_pressure, penetration)
     cell = op.cell
@@ -155,7 +155,7 @@ def newton_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetra
         if progress is not None:
             progress(outer, f"Newton step, {int(mask.sum())} cells in contact")
         if np.all(mask):
-            full = _full_contact(op, h, mean_pressure, penetration)
+            full = full_contact(op, h, mean_pressure, penetration)
             if full is not None:
                 p, delta = full
                 pairs += 1

@@ -369,9 +369,9 @@ def test_stale_pins(delta, sliver_stale):
     pulled (p ≈ −10) and its balance lies beyond the band (stale, released) while the
     strip's edges balance inside (kept); at Δ = 1 the strip's edges would interpenetrate if
     opened (kept whatever the balance says) and the sliver's balance holds it (kept)."""
-    from spectralbem.adhesive import _blocked, _offsets, _stale_pins
     from spectralbem.criterion import front_cells, front_tests
     from spectralbem.masked import solve_masked
+    from spectralbem.moves import blocked, offsets, stale_pins
 
     cell = Cell(2 * np.pi, 2 * np.pi / 512 * 2, 512, 2)
     h = sinusoid(cell, 1.0)
@@ -383,11 +383,11 @@ def test_stale_pins(delta, sliver_stale):
     p = solve_masked(op, mask, w, rtol=1e-12).field
     ft = front_tests(op, w, mask, p, np.pi * GAMMA, cell.hx, rtol=1e-12)
     outer, inner = front_cells(mask)
-    s_out, s_in = _offsets(ft.F_close, ft.F_open, outer, inner, cell.hx, True)
+    s_out, s_in = offsets(ft.F_close, ft.F_open, outer, inner, cell.hx, True)
     pinned = inner & mask
     assert (pinned & sliver).sum() == 4 and (pinned & strip).sum() == 4
-    stale = _stale_pins(ft, mask, s_out, s_in, w, pinned, cell.hx)
+    stale = stale_pins(ft, mask, s_out, s_in, w, pinned, cell.hx)
     assert not (stale & strip).any()
     assert (stale & sliver).sum() == (4 if sliver_stale else 0)
     if delta == 1.0:  # the strip's edges are held by non-penetration, not by the balance
-        assert _blocked(ft, w)[pinned & strip].all() and np.all(s_in[pinned & strip] < 0)
+        assert blocked(ft, w)[pinned & strip].all() and np.all(s_in[pinned & strip] < 0)

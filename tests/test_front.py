@@ -94,16 +94,16 @@ def test_load_correction_secant_lands_on_the_fixed_point_of_a_linear_map(a, r, c
     """The load correction of a balanced mask, c = g(c): substitution first, then a secant
     step through the previous pair, exact for a clear linear contraction g(c) = a + r c
     (|r| < ½); a slow one (r near 1, as near a pull-off) keeps substitution."""
-    from spectralbem.adhesive import _next_correction
+    from spectralbem.moves import next_correction
 
     def g(c):
         return a + r * c
 
-    c1 = _next_correction(c0, g(c0), None)
+    c1 = next_correction(c0, g(c0), None)
     assert c1 == g(c0)
-    c2 = _next_correction(c1, g(c1), (c0, g(c0)))
+    c2 = next_correction(c1, g(c1), (c0, g(c0)))
     assert c2 == pytest.approx(a / (1 - r), abs=1e-9)
     slow = 0.95
-    d1 = _next_correction(c0, a + slow * c0, None)
+    d1 = next_correction(c0, a + slow * c0, None)
     if d1 != c0:
-        assert _next_correction(d1, a + slow * d1, (c0, a + slow * c0)) == a + slow * d1
+        assert next_correction(d1, a + slow * d1, (c0, a + slow * c0)) == a + slow * d1

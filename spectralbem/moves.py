@@ -1,0 +1,229 @@
+"""How the contact mask of an adhesive solve follows its balanced front
+(:func:`spectralbem.adhesive.solve_adhesive`): the sub-cell offsets from the band tests, the
+cells that join and leave, the edges non-penetration holds, the pins of cells load control
+closed again, the load correction of the sub-cell front, and the detection of an oscillating
+front (docs/theory.md, "The 2D criterion and the sub-cell front")."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .front import sharp_crack_offset, sub_cell_offset, touching
+
+__all__ = ["offsets", "moves", "stale_pins", "held_offsets", "crack_tips",
+           "release_out_of_bounds", "unverified_pins", "blocked", "predictor_moves",
+           "next_correction", "Oscillation", "PIN_RELEASES", "RELEASE_SLACK",
+           "OSCILLATION_FLIPS", "OSCILLATION_RUN"]
+
+#: a cell that has changed state this many times in one solve counts as oscillating
+OSCILLATION_FLIPS = 3
+#: this many consecutive iterations that move only oscillating cells end the solve
+OSCILLATION_RUN = 6
+
+
+def _neighbour_mean(field_: np.ndarray, where: np.ndarray, at: np.ndarray) -> np.ndarray:
+    """Mean of ``field_`` over the 4-neighbours (periodic) where ``where`` holds and the
+    field is finite, at the flat indices ``at`` (nan where there is none)."""
+    nx, ny = field_.shape
+    i, j = np.divmod(at, ny)
+    f, wh = field_.ravel(), where.ravel()
+    s = np.zeros(at.size)
+    c = np.zeros(at.size)
+    for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+        k = ((i + di) % nx) * ny + (j + dj) % ny
+        v = f[k]
+        ok = wh[k] & np.isfinite(v)
+        s += np.where(ok, v, 0.0)
+        c += ok
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(c > 0, s / c, np.nan)
+
+
+def offsets(F_close, F_open, outer, inner, a0, sharp=False):
+    """Sub-cell offsets of the balanced edge on the outer front cells (closing test there,
+    opening tests of the neighbouring inner cells) and on the inner front cells (the other
+    way round); nan elsewhere.  ``sharp``: the sharp-crack edge of an elastic scene
+    (front.sharp_crack_offset), else the seed's edge (front.sub_cell_offset)."""
+    offset = sharp_crack_offset if sharp else sub_cell_offset
+    s_out = np.full(F_close.shape, np.nan)
+    s_in = np.full(F_close.shape, np.nan)
+    io, ii = np.flatnonzero(outer), np.flatnonzero(inner)
+    s_out.ravel()[io] = offset(F_close.ravel()[io], _neighbour_mean(F_open, inner, io), a0)
+    s_in.ravel()[ii] = offset(_neighbour_mean(F_close, outer, ii), F_open.ravel()[ii], a0)
+    return s_out, s_in
+
+
+def moves(tests, mask, s_out, s_in, w, pinned, hmin, wide=None, tol=0.0):
+    """The cells that join (add) and leave (remove) the mask: the mask follows the balanced
+    front to the nearest cell centre, with no dead band.  A band cell at distance d from the
+    front (d = h for the first layer) joins when its front cell's balanced edge lies beyond
+    its centre, s > d − h/2; a cell of the inner band leaves when s < −(d − h/2).  A cell
+    opens only where its opening leaves a gap (no interpenetration): otherwise the
+    nucleation step would close it again at once (an open/close cycle).  ``wide``: cells
+    that move only when their front cell is unbalanced (beyond the acceptance band, ``tol``
+    cells more: the rescue of an oscillating front, :func:`solve_adhesive`)."""
+    b = tests.bands
+    half = 0.5 * hmin
+    extra = None if wide is None else np.where(wide.ravel(), tol * hmin, 0.0)
+    ob = np.flatnonzero(b.outer_band)  # band cells, each with its owning front cell
+    ib = np.flatnonzero(b.inner_band & ~pinned & ~blocked(tests, w))
+    reach_out = b.outer_dist.ravel()[ob] - half  # the nearest-centre rule
+    reach_in = b.inner_dist.ravel()[ib] - half
+    if extra is not None:
+        reach_out, reach_in = reach_out + extra[ob], reach_in + extra[ib]
+    add = np.zeros(mask.shape, bool)
+    add.ravel()[ob] = s_out.ravel()[b.outer_owner.ravel()[ob]] > reach_out
+    remove = np.zeros(mask.shape, bool)
+    remove.ravel()[ib] = s_in.ravel()[b.inner_owner.ravel()[ib]] < -reach_in
+    return add, remove
+
+
+#: times a cell's stale pin may be released (:func:`stale_pins`)
+PIN_RELEASES = 1
+
+
+def stale_pins(tests, mask, s_out, s_in, w, pinned, hmin):
+    """Pinned cells whose pin is stale: their opening now leaves a gap (not blocked) and the
+    balance, not held by the pin, opens them.  A pin is set when a cell the criterion opened
+    interpenetrates at a later Δ; on unloading the front passes through such states, and
+    without a release the pins stay closed as slivers under tension (the rough 256²
+    viscoelastic case: 175 pinned cells in 76 patches carried 40 % of the friction force).
+    The solver releases each cell's stale pin once (``PIN_RELEASES``; a cell pinned again
+    is a lattice bind and stays), at the iteration it turns stale, under a compressive
+    mean pressure only: under a tensile one, pins of patches without a free edge make the
+    state unverified (:func:`unverified_pins`), and beyond the pull-off releasing them
+    only delays that."""
+    if not pinned.any():
+        return pinned
+    _, remove = moves(tests, mask, s_out, s_in, w, np.zeros_like(pinned), hmin)
+    return remove & pinned
+
+
+def held_offsets(s_out, s_in, outer, held_in):
+    """Offsets where non-penetration holds the edge: a front cell that cannot open (its
+    opening leaves the surfaces interpenetrating, or load control closed it again) is a
+    compressive edge, not a crack tip; the energy balance's inward offset there is an
+    extrapolation of meaningless works (negative gap times compressive pressure), so the
+    edge stays at the mask edge, as in an adhesiveless contact: s ≥ 0 on those inner cells
+    and on the outer cells next to them (an outward balance still counts)."""
+    s_in = np.where(held_in, np.maximum(s_in, 0.0), s_in)
+    s_out = np.where(outer & touching(held_in), np.maximum(s_out, 0.0), s_out)
+    return s_out, s_in
+
+
+#: slack of the bound G ≤ β Δγ on the front-averaged G1, G2 (in units of β Δγ): the
+#: averages' discretisation error is below 0.45 Δγ on the rough cases at 128²
+#: (docs/rough_convergence.md)
+RELEASE_SLACK = 0.5
+
+
+def crack_tips(res_out, held, outer):
+    """The resolved outer front cells that are crack tips: not next to an inner front cell
+    held by contact (a compressive, adhesiveless edge has no stress singularity)."""
+    return res_out & ~touching(held & ~outer)
+
+
+def release_out_of_bounds(op, tests, tip, dgamma) -> str:
+    """'' or why the balanced front is no equilibrium: a front-averaged G1 or G2 on the
+    crack-tip edges (resolved outer front cells not next to an edge held by contact) above
+    (1 + RELEASE_SLACK) β Δγ, β = E∞/E0: an edge moving steadily in a viscoelastic solid
+    releases at most the glassy factor of Δγ (G = Δγ in an elastic scene).  A 2-cycle that
+    brackets no root (a tensile load beyond the pull-off, where each flip also moves Δ)
+    passes the test in position and ends here (G1 = 34 Δγ at β = 10).  There is no lower
+    bound: the work of a band of finite width a0 can release less than Δγ/β, even a
+    negative G (the 1D method: G1 = −0.42 Δγ at β = 10, ζ = 2.15, p̃ = 0.15, ã0 = 0.01)."""
+    from .front import release_rates
+
+    if not tip.any():
+        return ""
+    _, G1, G2 = release_rates(op, tests, tip, dgamma)
+    fo = {"G1": G1, "G2": G2}
+    beta = op.material.beta
+    hi = beta * (1.0 + RELEASE_SLACK)
+    dg = float(np.mean(dgamma))
+    out = [f"{k} = {fo[k] / dg:.3g} Δγ" for k in ("G1", "G2")
+           if np.isfinite(fo[k]) and fo[k] / dg > hi]
+    return (f"no equilibrium: the front-averaged energy release rate {', '.join(out)} on "
+            f"the crack-tip edges exceeds {hi:.3g} Δγ (G ≤ β Δγ, β = {beta:.3g}, with "
+            f"{RELEASE_SLACK:g} β Δγ of slack)") if out else ""
+
+
+def unverified_pins(mask, stuck, free_in):
+    """The ``stuck`` cells (pinned, could open now, balance beyond the whole band) of the
+    contact patches that have no free resolved inner front cell.  A pin stands for a
+    lattice bind next to edges that balance (a cell that flips between open and
+    interpenetrating); under a tensile load a patch held only by such pins has no edge that
+    verifies an equilibrium (a load beyond the pull-off ends this way: a few-cell patch whose
+    pinned ends release ~10³ Δγ a0).  Under compression such patches occur as lattice binds
+    of rough contacts (a pinned cell releasing ~3 Δγ a0 on a 64² rough case) and are kept."""
+    if not stuck.any():
+        return stuck
+    from scipy import ndimage
+
+    lab, n = ndimage.label(mask)
+    free = np.zeros(n + 1, bool)
+    free[np.unique(lab[free_in])] = True
+    return stuck & ~free[lab]
+
+
+def blocked(tests, w):
+    """Cells whose opening would leave the surfaces interpenetrating (non-penetration holds
+    them closed whatever the balance says)."""
+    gtol = 1e-12 * max(1.0, float(np.abs(w).max()))
+    return tests.g_open < -gtol
+
+
+def predictor_moves(tests, mask, outer, w, pinned, hmin):
+    """The predictor's moves: its closing and opening estimates are the same product at a
+    front (½ t_i g_j a), so there is no slope to interpolate a sub-cell edge from; the band
+    joins where F_close < −ε and leaves where F_open > ε, one band per iteration.
+    ε = 4.7 h/r, the predictor's own error at the mean front radius r = 2A/P of the mask
+    (docs/theory.md): inside it only the exact tests can tell."""
+    n_front = max(1, int(outer.sum()))
+    eps = min(0.5, 4.7 * n_front / (2.0 * mask.sum())) if mask.any() else 0.5
+    s_out = np.where(tests.F_close < -eps, np.inf, -np.inf)
+    s_in = np.where(tests.F_open > eps, -np.inf, np.inf)
+    add, remove = moves(tests, mask, s_out, s_in, w, pinned, hmin)
+    return add, remove
+
+
+def next_correction(c, g, prev):
+    """The next load correction of a balanced mask: the fixed point c = g(c) of the front's
+    correction g (the front's mean pressure minus the mask's), by a secant step through the
+    previous (c, g) of the same mask where g contracts clearly, else by substitution
+    (measured ratios ~0.3 per state: substitution alone takes 6-8 states for LOAD_TOL)."""
+    if prev is None:
+        return g
+    c0, g0 = prev
+    f, f0 = g - c, g0 - c0
+    if f == f0 or f == 0.0:
+        return g
+    step = -f * (c - c0) / (f - f0)
+    # the secant only where g contracts clearly, |r| ≤ ½ for g ≈ a + r c (step/f = 1/(1 − r)
+    # in [2/3, 2]): near a pull-off r → 1 and an extrapolated step would leave the branch
+    return c + step if 2.0 / 3.0 <= step / f <= 2.0 else g
+
+
+class Oscillation:
+    """Detects a front that only flips cells back and forth (exact cycles and drifting ones):
+    counts the changes of each cell; a run of iterations that move only cells already
+    flipped OSCILLATION_FLIPS times is an oscillation."""
+
+    def __init__(self, shape):
+        self.flips = np.zeros(shape, np.uint16)
+        self.run = 0
+        self.seen = set()
+
+    def step(self, mask, change) -> str:
+        """'' or the reason the iteration must stop (called before the change is applied)."""
+        key = hash(mask.tobytes())
+        if key in self.seen:
+            return "the mask returned to an earlier state (a cycle)"
+        self.seen.add(key)
+        old = self.flips[change]
+        self.run = self.run + 1 if old.size and old.min() >= OSCILLATION_FLIPS else 0
+        self.flips[change] += 1
+        if self.run >= OSCILLATION_RUN:
+            return (f"the front oscillates: {OSCILLATION_RUN} iterations in a row moved only "
+                    f"cells that had flipped {OSCILLATION_FLIPS} times or more")
+        return ""

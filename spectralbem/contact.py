@@ -159,11 +159,7 @@ SPAN_SLOW = 1e5
 #: contact fraction at which polonsky_keer checks for full contact (once)
 FULL_CHECK = 0.9
 
-#: FFT inputs of at least this size are rewritten whole every PK iteration (zeros, then t
-#: on the contact set) instead of only on the contact set: their zeros, untouched since the
-#: last transform, are then read from cache, not memory.  At 512² (2 MiB) it saves 1-2 %
-#: an iteration on a quiet machine and 13 % on a busy one (paired runs); at 256² (0.5 MiB,
-#: which the 1 MiB L2 cache keeps) it costs 2 %; at 1024² neutral (docs/performance.md)
+#: FFT inputs of at least this size are rewritten whole every PK iteration (docs/performance.md)
 REFILL_BYTES = 2**20
 
 

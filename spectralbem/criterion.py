@@ -36,25 +36,12 @@ from .spectral import SpectralOperator
 _CROSS = ndimage.generate_binary_structure(2, 1)
 
 
-#: σ of the average of the balance along the front, in units of a0: the balance is a mean
-#: over a piece of front about as long as its band is wide (docs/theory.md, "averaging
-#: along the front").  A physical length where a0 is (viscoelastic scenes), numerical with
-#: it in elastic ones (a0 of one cell: σ = 1.5 cells).  Measured on the rough surface of
-#: docs/rough_convergence.md (elastic, a0 = 7.8 µm): σ = 5.9, 11.7, 23.4 µm give areas
-#: 0.2791, 0.2724, 0.2624 at 256² and 0.2749, 0.2704, 0.2609 at 512² (the bias grows about
-#: linearly with σ); the viscoelastic state at 256² needs 320 front iterations with σ of
-#: 1.5 cells, 41 with 3 cells (docs/theory.md).
+#: σ of the average of the balance along the front, in units of a0 (docs/theory.md,
+#: "Averaging along the front", where the measurements of σ live)
 FRONT_SMOOTHING = 1.5
 
-#: σ grows with the contact patch: σ = max(FRONT_SMOOTHING, SMOOTHING_PER_RADIUS · r) for a
-#: patch of front radius r = min(2 area/perimeter, perimeter/2π) (cells; a disc's radius).
-#: Measured: σ = 6 lets the 512² viscoelastic sphere (55 cells of radius) wander for 311
-#: outer iterations (211-330 s), σ = 12 (= 0.22 r) converges in 36 (20 s); on the JKR disc at
-#: 72 cells of radius σ = 6, 12, 18 give radius errors −0.24, −0.43, −0.62 % (loading).
-#: With the equivalent radius √(area/π) instead of 2A/P, the percolating patch of a 256²
-#: rough contact at 45 % area got σ = 22 cells, a lattice cycle and 8 % less area; without
-#: the P/2π bound a y-invariant strip got σ in the hundreds (same result, 3× the time).
-#: 0 switches the growth off.
+#: σ = max(FRONT_SMOOTHING a0, SMOOTHING_PER_RADIUS r) for a patch of front radius r
+#: (:func:`patch_sigmas`; measured in docs/performance.md, the adhesive sphere); 0: σ fixed
 SMOOTHING_PER_RADIUS = 0.23
 
 #: average along the front graph (True) or with a grid Gaussian restricted to front cells

@@ -274,11 +274,8 @@ class MaskedSystem:
         return LinearOperator((self.n, self.n), matvec=self.precondition, dtype=np.float64)
 
 
-#: GMRES restart length (default), as far as the Krylov basis fits in RESTART_BYTES; the
-#: fused GMRES allocates its basis as the iteration grows it (a solve of k products holds
-#: k + 1 vectors of the set's size: typical rough solves k ≤ 60, a few N² arrays); only
-#: stagnating systems reach the cap (the β = 1e4, ζ = 10 rough 256² mask of
-#: tests/test_masked.py: 1193 products with 300 vectors, 2003 with 226, 4232 with 113)
+#: GMRES restart length, as far as the basis fits in RESTART_BYTES (the fused GMRES grows
+#: its basis as it iterates; measured in docs/performance.md, the masked solves)
 RESTART_MAX = 300
 RESTART_BYTES = 200 * 2**20
 

@@ -63,7 +63,7 @@ API_MODULES = ("spectralbem", "spectralbem.scenes", "spectralbem.surfaces",
                "spectralbem.sinusoid1d", "spectralbem.sweep", "spectralbem.io",
                "spectralbem.plotting", "spectralbem.plausibility", "spectralbem.reference",
                "spectralbem.conventions", "spectralbem.kinds", "spectralbem.keys",
-               "spectralbem.backend")
+               "spectralbem.backend", "spectralbem.results")
 
 
 def _first_line(obj) -> str:

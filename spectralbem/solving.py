@@ -15,51 +15,15 @@ import numpy as np
 
 from . import __version__
 from .contact import sliding_direction
-from .io import FIELDS, SCALARS, STATUS, cf_attributes
+from .io import FIELDS, SCALARS, cf_attributes
 from .io import attrs as _attrs
+from .results import edges_y_invariant, grid_dataset, quotient, seed_dataset, seed_front_outputs
 from .scenes import Scene, _dimensionless_groups
 from .schema import SceneError
 from .spectral import SpectralOperator
 
-
-def _edges_y_invariant(mask, offset, cell):
-    """Trailing/leading edge distances (l1, l2) from the summit, averaged over rows, with the
-    sub-cell offsets of the outer front cells."""
-    lam = cell.Lx
-    x = (cell.x + lam / 2) % lam - lam / 2
-    l1s, l2s = [], []
-    for j in range(cell.Ny):
-        row = mask[:, j]
-        if not row.any() or row.all():
-            return np.nan, np.nan
-        xs = x[row]
-        i_lo = int(np.flatnonzero(row & (x == xs.min()))[0])
-        i_hi = int(np.flatnonzero(row & (x == xs.max()))[0])
-        s_lo = offset[(i_lo - 1) % cell.Nx, j]
-        s_hi = offset[(i_hi + 1) % cell.Nx, j]
-        l1s.append(-(xs.min() - cell.hx / 2) + (s_lo if np.isfinite(s_lo) else 0.0))
-        l2s.append(xs.max() + cell.hx / 2 + (s_hi if np.isfinite(s_hi) else 0.0))
-    return float(np.mean(l1s)), float(np.mean(l2s))
-
-
-SEED_EXTRA = {
-    "mu_bar_mask": "μ/Λ̃ from the rigid-profile force on the cell mask",
-    "mu_bar_dissipation": "μ/Λ̃ from the spectral dissipation",
-    "mu_bar_lateral": "lateral force over normal force, over Λ̃",
-}
-
-
 #: the states whose status promises a verified equilibrium (every other is not_converged)
 REPORTED = ("partial", "full_contact", "detached")
-
-
-def quotient(num: float, den: float, num_scale: float = 0.0, den_scale: float = 0.0) -> float:
-    """num/den with the 1D method's convention at no load (oned.branches._quotient): 0/0 = 0 (no
-    force at no load), ±inf for a finite numerator over 0.  A value within 1e-9 of its scale
-    (the sum of the magnitudes it came from) counts as 0: round-off of a vanishing sum."""
-    if abs(den) > 1e-9 * den_scale and den != 0.0:
-        return num / den
-    return 0.0 if abs(num) <= 1e-9 * num_scale else math.copysign(math.inf, num)
 
 
 def _friction(op, h, p, u) -> dict:
@@ -121,7 +85,6 @@ def _undefined(status: str, message: str, scalars: dict, skip=()) -> tuple:
 
 def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10, progress=None):
     """The seed scene on the grid: the 1D method's dimensionless names."""
-    import xarray as xr
 
     from . import front
     from .adhesive import solve_adhesive
@@ -154,36 +117,12 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10, progress=Non
                            flaw_radius=scene.flaw_radius, progress=progress)
         p, mask, delta, status = r.pressure, r.contact, r.penetration, r.status
         out["p_front"] = r.mean_pressure
-        a0e = r.a0
         u = r.displacement
         if status == "partial" and r.tests is not None:  # the local G/Δγ on the front
             G_front = front.front_outputs(op, r, scene.dgamma)["G_map"]
         if scene.kind == "sinusoid" and status == "partial":
-            l1, l2 = _edges_y_invariant(mask, r.offset_out, cell)
-            G = []
-            for ci in sorted(r.tests.closing):
-                close, open_ = r.tests.closing[ci], r.tests.opening[ci]
-                col = r.tests.colour_map[ci]
-                sel = col & np.isfinite(r.offset_out)  # no balanced edge: s, G undefined
-                s = float(r.offset_out[sel].mean()) if sel.any() else np.nan
-                Gc, Go = close.dU / close.area, open_.dU / open_.area
-                # G at the balanced edge: the closing (opening) band's value stands at its
-                # start x_b (x_b − a0) in the seed's definition, at its midpoint when the edge
-                # is the sharp-crack one (shift a0/2, elastic scenes)
-                G.append(Go + (Gc - Go) * (a0e + s - r.edge_shift) / a0e)
-            # integrated quantities at the sub-cell front (first order in offset/a0)
-            at_front = front.at_front(r.tests, r.offset_out,
-                                      {k: float(np.sum(p * f)) for k, f in obs.items()}, a0e)
-            scale = {k: float(np.sum(np.abs(p * f))) for k, f in obs.items()}
-            for k in ("force", "lateral"):
-                out[f"mu_bar_{k}_front"] = quotient(at_front[k], at_front["load"], scale[k],
-                                                    scale["load"])
-            if r.crack_tips is not None and not r.crack_tips.any():
-                G = [0.0]  # every edge held by contact (Γ → 0): no crack tip (front.py)
-            if len(G) == 1:
-                G = G * 2
-            # colour 0 is trailing (v̂·n < 0); for elastic scenes one colour for both edges
-            out.update(G1_over_dgamma=G[0] / scene.dgamma, G2_over_dgamma=G[1] / scene.dgamma)
+            l1, l2, more = seed_front_outputs(op, r, scene.dgamma, obs)
+            out.update(more)
         else:
             l1 = l2 = np.nan
             out.update(G1_over_dgamma=np.nan, G2_over_dgamma=np.nan)
@@ -200,7 +139,7 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10, progress=Non
         l1 = l2 = np.nan
         if scene.kind == "sinusoid" and status == "partial":
             zeros = np.zeros(cell.shape)
-            l1, l2 = _edges_y_invariant(mask, zeros, cell)
+            l1, l2 = edges_y_invariant(mask, zeros, cell)
         out.update(G1_over_dgamma=np.nan, G2_over_dgamma=np.nan)
         info = dict(iterations=res.iterations, message=res.message)
     status, info["message"] = _verify(status, info["message"], scene, mask)
@@ -226,20 +165,8 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10, progress=Non
         status, info["message"] = "not_converged", (
             f"the contact edges give ã = {out['a_tilde']!r} ≤ 0, so the state is not "
             f"reported as partial; solver: {info['message']}")
-    from .oned import SCALARS as names
-
-    names = {**names, **SEED_EXTRA}
-    data = {k: ((), float(v), {"units": "1", "long_name": names.get(k, k)})
-            for k, v in out.items()}
-    data["status"] = ((), status, {"long_name": "partial | full_contact | detached | "
-                                                "not_converged", "units": "1"})
-    data["pressure_tilde"] = (("x", "y"), p / pstar, {"long_name": "p/p*", "units": "1"})
-    data["contact"] = (("x", "y"), mask.astype(np.int8), {"long_name": "contact mask",
-                                                          "units": "1"})
-    if G_front is not None and status == "partial":
-        data["G_front"] = (("x", "y"), G_front, _attrs(FIELDS["G_front"]))
-    ds = xr.Dataset(data, coords={"x": ("x", cell.x, {"units": "1", "long_name": "k x"}),
-                                  "y": ("y", cell.y, {"units": "1", "long_name": "k y"})})
+    ds = seed_dataset(cell, out, status, p / pstar, mask,
+                      G_front if status == "partial" else None)
     ds.attrs.update(**scene.params, **info)
     return ds
 
@@ -268,7 +195,6 @@ def _adhesiveless_mask(op, scene: Scene):
 
 
 def _solve_grid(scene: Scene, mask0=None, progress=None):
-    import xarray as xr
 
     from .adhesive import solve_adhesive
     from .contact import solve_contact
@@ -344,16 +270,9 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
     sc.update(mean_pressure=pm, penetration=float(delta),
               area_fraction=float(mask.mean()) if area is None else area, **fr)
     status, msg = _undefined(status, msg, sc)
-    data = {k: ((), float(v), _attrs(SCALARS[k]))
-            for k, v in sc.items()}
-    data["status"] = ((), status, _attrs(STATUS))
     if scene.fields:
         fields.update(pressure=p, displacement=u, gap=gap, contact=mask.astype(np.int8))
-        for k, v in fields.items():
-            data[k] = (("x", "y"), v, _attrs(FIELDS[k]))
-    ds = xr.Dataset(data, coords={
-        "x": ("x", cell.x, {"units": "m", "long_name": "position along x"}),
-        "y": ("y", cell.y, {"units": "m", "long_name": "position along y"})})
+    ds = grid_dataset(cell, sc, status, fields if scene.fields else {})
     ds.attrs.update(solver_message=msg, solver_diagnostics=json.dumps(diag, default=str),
                     velocity_x=float(op.velocity[0]), velocity_y=float(op.velocity[1]))
     return ds, mask

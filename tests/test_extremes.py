@@ -291,7 +291,7 @@ def test_leaving_full_contact_by_the_nucleation_rule():
     Johnson's ã = 1.3839; asserted within half a cell — the mask itself may stand up to one
     cell from that edge, front_tol); at p̃ = 0.5 both close; below pull-off the contact
     detaches."""
-    from spectralbem.solving import _edges_y_invariant
+    from spectralbem.results import edges_y_invariant
 
     cell = Cell(2 * np.pi, 2 * np.pi / N, N, 1)
     op = SpectralOperator(cell, Elastic(1.0, 0.0))
@@ -306,7 +306,7 @@ def test_leaving_full_contact_by_the_nucleation_rule():
                                flaw_radius=flaw * H)
             status[flaw, pt] = r.status
             if (flaw, pt) == (24, 0.0):
-                edges = _edges_y_invariant(r.contact, r.offset_out, cell)
+                edges = edges_y_invariant(r.contact, r.offset_out, cell)
                 assert abs(np.mean(edges) - ref.johnson_a(0.0, 0.05)) <= 0.5 * H
     assert status == {(8, 0.5): "full_contact", (8, 0.0): "full_contact",
                       (8, -0.3): "detached", (24, 0.5): "full_contact",

@@ -1,5 +1,7 @@
-"""Solving a scene: the model paths (the seed's 1D method, the seed scene on the grid, the
-physical grid), the verification of each state's status, and the Dataset of the result.
+"""Solving a scene: the seed's 1D method, or the grid — one solve for seed and physical
+scenes (:func:`_grid_state`; a seed scene is a physical one in k = Λ = E0* = 1 units), whose
+state is reported in the seed's dimensionless names or in SI (:mod:`spectralbem.results`) —,
+and the verification of each state's status.
 
 :func:`solve` (re-exported as ``spectralbem.solve`` and ``spectralbem.scenes.solve``) runs a
 :class:`spectralbem.scenes.Scene` step by step along its load path.
@@ -83,12 +85,10 @@ def _undefined(status: str, message: str, scalars: dict, skip=()) -> tuple:
     return status, message
 
 
-def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10, progress=None):
+def _solve_seed_grid(scene: Scene, mask0=None, progress=None):
     """The seed scene on the grid: the 1D method's dimensionless names."""
 
     from . import front
-    from .adhesive import solve_adhesive
-    from .contact import solve_contact
 
     op = _operator(scene)
     cell, h = scene.cell, scene.heights
@@ -108,13 +108,7 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10, progress=Non
         vperp = (-vhat[1], vhat[0])
         obs = {"load": np.ones(cell.shape), "force": -cell.derivative(h, vhat),
                "lateral": -cell.derivative(h, vperp)}
-        r = solve_adhesive(op, h, scene.dgamma, scene.a0, penetration=scene.penetration,
-                           mean_pressure=scene.mean_pressure, mask0=mask0, rtol=rtol,
-                           observables=obs, max_outer=scene.solver["max_outer"],
-                           **_smoothing(scene),
-                           criterion=scene.solver.get("criterion", "exact"),
-                           front_tol=scene.solver.get("front_tol", 0.5),
-                           flaw_radius=scene.flaw_radius, progress=progress)
+        r = _grid_state(scene, op, mask0, progress, obs)
         p, mask, delta, status = r.pressure, r.contact, r.penetration, r.status
         out["p_front"] = r.mean_pressure
         u = r.displacement
@@ -131,9 +125,7 @@ def _solve_seed_grid(scene: Scene, mask0=None, rtol: float = 1e-10, progress=Non
         if status in ("detached", "full_contact"):  # no front: nothing unbalanced
             info.update(balanced_fraction=1.0, front_residual=0.0)
     else:
-        res = solve_contact(op, h, mean_pressure=scene.mean_pressure,
-                            penetration=scene.penetration, tol=rtol,
-                            maxiter=scene.solver["max_iterations"])
+        res = _grid_state(scene, op, progress=progress)
         p, mask, delta, u = res.pressure, res.contact, res.penetration, res.displacement
         status = res.status
         l1 = l2 = np.nan
@@ -177,6 +169,27 @@ def _operator(scene: Scene) -> SpectralOperator:
                             threads=scene.solver["threads"])
 
 
+def _grid_state(scene: Scene, op: SpectralOperator, mask0=None, progress=None,
+                observables: dict | None = None):
+    """The state of a grid scene (seed or physical: the same solve): the adhesive front from
+    ``mask0`` (an AdhesiveState), or the adhesiveless contact (a ContactState)."""
+    from .adhesive import solve_adhesive
+    from .contact import solve_contact
+
+    solver = scene.solver
+    if not scene.adhesive:
+        return solve_contact(op, scene.heights, mean_pressure=scene.mean_pressure,
+                             penetration=scene.penetration, tol=solver["tol"],
+                             maxiter=solver["max_iterations"], progress=progress)
+    return solve_adhesive(op, scene.heights, scene.dgamma, scene.a0,
+                          penetration=scene.penetration, mean_pressure=scene.mean_pressure,
+                          mask0=mask0, rtol=solver["tol"], observables=observables,
+                          max_outer=solver["max_outer"], **_smoothing(scene),
+                          criterion=solver.get("criterion", "exact"),
+                          front_tol=solver.get("front_tol", 0.5),
+                          flaw_radius=scene.flaw_radius, progress=progress)
+
+
 def _adhesiveless_mask(op, scene: Scene):
     """Initial mask of an adhesive solve: the adhesiveless contact at the same penetration,
     or at the same load (at |load|, or a light touch at zero load)."""
@@ -196,13 +209,10 @@ def _adhesiveless_mask(op, scene: Scene):
 
 def _solve_grid(scene: Scene, mask0=None, progress=None):
 
-    from .adhesive import solve_adhesive
-    from .contact import solve_contact
     from .front import front_outputs, small_patch_diameter
 
     op = _operator(scene)
     cell, h = scene.cell, scene.heights
-    tol = scene.solver["tol"]
     sc = {}
     fields = {"heights": h}
     if scene.adhesive:
@@ -211,13 +221,7 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
         # the new load's Δ; unloading: the adhesiveless contact is inside the carried one)
         m_free = _adhesiveless_mask(op, scene)
         mask0 = m_free if mask0 is None else (mask0 | m_free if m_free is not None else mask0)
-        r = solve_adhesive(op, h, scene.dgamma, scene.a0, penetration=scene.penetration,
-                           mean_pressure=scene.mean_pressure, mask0=mask0, rtol=tol,
-                           max_outer=scene.solver["max_outer"],
-                           **_smoothing(scene),
-                           criterion=scene.solver.get("criterion", "exact"),
-                           front_tol=scene.solver.get("front_tol", 0.5),
-                           flaw_radius=scene.flaw_radius, progress=progress)
+        r = _grid_state(scene, op, mask0, progress)
         p, mask, delta, status = r.pressure, r.contact, r.penetration, r.status
         u = r.displacement
         msg = r.message
@@ -254,9 +258,7 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
                 "method": "front-layer energy balance, sub-cell front",
                 "history": r.history[-20:]}
     else:
-        res = solve_contact(op, h, mean_pressure=scene.mean_pressure, penetration=scene.penetration,
-                            tol=tol, maxiter=scene.solver["max_iterations"],
-                            progress=progress)
+        res = _grid_state(scene, op, progress=progress)
         p, mask, delta, u = res.pressure, res.contact, res.penetration, res.displacement
         status = res.status
         msg = res.message
@@ -349,8 +351,7 @@ def _solve_one(scene: Scene, state, progress=None):
         ok = ds.status.item() == "partial"
         return ds, ((ds.attrs["l1_tilde"], ds.attrs["l2_tilde"]) if ok else None)
     if scene.kind == "sinusoid":
-        ds = _solve_seed_grid(scene, mask0=state, rtol=scene.solver["tol"],
-                              progress=progress)
+        ds = _solve_seed_grid(scene, mask0=state, progress=progress)
         mask = ds.contact.values.astype(bool) if "contact" in ds else None
         # a detached state carries nothing: the next step starts afresh (an empty mask
         # would be 'detached' at once, whatever the load)

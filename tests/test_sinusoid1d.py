@@ -136,7 +136,7 @@ def test_finite_a0_moves_edges_inward_linearly():
 def visco_state():
     pr = s1.dimensionless_problem(0.1, BETA, GAMMA, 0.01)
     st = pr.equilibrium(mean_pressure=0.15 * pr.p_star())
-    assert st.info["converged"]
+    assert st.info.converged
     return pr, st
 
 
@@ -203,14 +203,14 @@ def test_equilibrium_rejects_a_state_that_interpenetrates(monkeypatch):
 
     pr = s1.dimensionless_problem(0.0, 10.0, 0.008, 0.01)
     good = pr.equilibrium(mean_pressure=0.15 * pr.p_star())
-    assert good.info["converged"] and good.info["interpenetration"] == 0.0
+    assert good.info.converged and good.info.interpenetration == 0.0
     # the root finder's unknowns are the half-width and centre (a, c) = (0.6, 1.0)
     flank = SimpleNamespace(x=np.array([0.6, 1.0]), fun=np.zeros(2), message="forced",
                             nfev=1)
     monkeypatch.setattr(problem, "root", lambda *a, **k: flank)
     bad = pr.equilibrium(penetration=good.penetration)
-    assert not bad.info["converged"]
-    assert bad.info["interpenetration"] > 1e-3 and "inadmissible" in bad.info["message"]
+    assert not bad.info.converged
+    assert bad.info.interpenetration > 1e-3 and "inadmissible" in bad.info.message
 
 
 def test_special_points_retrace_a_branch_lost_near_snap_in():
@@ -248,14 +248,14 @@ def test_robust_equilibrium_prefers_the_rising_branch():
     pr = s1.dimensionless_problem(1.0, BETA, 0.008, 0.01)
     p = 0.15 * pr.p_star()
     fall = pr.equilibrium(mean_pressure=p, guess=(2.194 + 0.495, 2.194 - 0.495))
-    assert fall.info["converged"] and abs(fall.domain.a - 2.1943) < 1e-3
+    assert fall.info.converged and abs(fall.domain.a - 2.1943) < 1e-3
     slope = s1.branch_slope(pr, fall, "mean_pressure")
     lo, hi = (s1.branch_point(pr, fall.domain.a + s, (fall.domain.c, fall.penetration))
               for s in (-2e-3, 2e-3))
     central = (hi.mean_pressure - lo.mean_pressure) / 4e-3
     assert slope < 0 and central < 0 and abs(slope / central - 1) < 0.01
     st = pr.robust_equilibrium(mean_pressure=p, guess=(fall.l1, fall.l2))
-    assert st.info["converged"] and st.info["branch_slope"] > 0
+    assert st.info.converged and st.info.branch_slope > 0
     assert abs(st.domain.a - 0.8975705620) < 1e-8  # the cold-start state, same to 1e-8
 
 

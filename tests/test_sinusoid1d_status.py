@@ -125,7 +125,7 @@ def test_load_below_pull_off_detaches_on_every_side_of_the_falling_branch():
     assert a_fall == pytest.approx(2.36, abs=5e-3)
     pr = s1.dimensionless_problem(0.1, BETA, GAMMA, A0)
     st = pr.equilibrium(mean_pressure=-0.2 * pr.p_star(), guess=(a_fall + 1.25, a_fall - 1.25))
-    assert st.info["converged"] and abs(st.domain.a - a_fall) < 5e-3
+    assert st.info.converged and abs(st.domain.a - a_fall) < 5e-3
     lo, hi = (s1.branch_point(pr, st.domain.a + h, (st.domain.c, st.penetration))
               for h in (-2e-3, 2e-3))
     central = (hi.mean_pressure - lo.mean_pressure) / 4e-3 / pr.p_star()
@@ -194,9 +194,9 @@ def test_message_agrees_with_status(monkeypatch):
                            message="The solution converged.")
     monkeypatch.setattr(problem, "root", lambda *a, **k: fake)
     st = pr.equilibrium(mean_pressure=0.15 * pr.p_star())
-    assert not st.info["converged"]
-    assert st.info["message"].startswith("not converged: edge residuals up to 9.7e+01")
-    assert "The solution converged." not in st.info["message"]
+    assert not st.info.converged
+    assert st.info.message.startswith("not converged: edge residuals up to 9.7e+01")
+    assert "The solution converged." not in st.info.message
     assert s1.dimensionless_problem(1e-9, BETA, GAMMA, A0).underresolved
     assert not s1.dimensionless_problem(1e-3, BETA, GAMMA, A0).underresolved
 

@@ -12,7 +12,7 @@ import numpy as np
 from scipy.optimize import root
 
 from ..materials import Elastic, StandardLinearSolid
-from .problem import Sinusoid1D, State
+from .problem import Sinusoid1D, SolveInfo, State
 
 # ---------------------------------------------------------------------------------------------
 # dimensionless entry points (seed Section 4 groups; conventions.py)
@@ -101,16 +101,16 @@ class _Branch:
         guess = (self.solved[min(self.solved, key=lambda b: abs(b - a))] if self.solved
                  else (0.0, None))
         st = branch_point(self.pr, a, guess)
-        if not st.info["converged"] and guess != (0.0, None):
+        if not st.info.converged and guess != (0.0, None):
             st = branch_point(self.pr, a, (0.0, None))
-        if st.info["converged"]:
+        if st.info.converged:
             self.solved[a] = ((st.l2 - st.l1) / 2, st.penetration)
         return st
 
     def at(self, a: float):
         """(p̃, Δ̃) of the branch point at ã (nan, nan where none is found)."""
         st = self.state(a)
-        if not st.info["converged"]:
+        if not st.info.converged:
             return np.nan, np.nan
         return st.mean_pressure / self.pr.p_star(), st.penetration / self.pr.amp
 
@@ -225,25 +225,25 @@ def _verdict(pr: Sinusoid1D, control: str, value: float, ratio: complex, guess=N
                            delta_tilde=0.0 if load else v)
     st = pr.robust_equilibrium(guess=guess, **{control: value})
     falling = None
-    if st.info["converged"]:
-        slope = st.info.get("branch_slope", np.inf)
+    if st.info.converged:
+        slope = st.info.branch_slope if st.info.branch_slope is not None else np.inf
         if stability and not (np.isfinite(slope) and slope > 0):
             slope = _slope(pr, st, control)  # adhesiveless (inf: not computed) or not found
-        st.info["branch_slope"] = slope
+        st.info.branch_slope = slope
         scale = pr.k * (pr.p_star() if load else pr.amp)
         if slope > 0 or not stability:
             summ = _summary(pr, st)
             if any(np.isnan(x) for k_, x in summ.items() if stability or k_ != "branch_slope"):
                 return Verdict("not_converged", "balanced, but a scalar of the state is nan",
-                               residual=st.info["residual"])
-            return Verdict("partial", f"{st.info['message']}; rising branch, "
+                               residual=st.info.residual)
+            return Verdict("partial", f"{st.info.message}; rising branch, "
                            f"d{'p̃' if load else 'Δ̃'}/dã = {slope / scale:.3g} > 0", st,
-                           st.info["residual"])
+                           st.info.residual)
         if slope <= 0:
             falling = st
     elif pr.underresolved:  # the branch trace at this resolution would take minutes
-        return Verdict("not_converged", f"{st.info['message']}; {pr.underresolved}",
-                       residual=st.info["residual"])
+        return Verdict("not_converged", f"{st.info.message}; {pr.underresolved}",
+                       residual=st.info.residual)
     return _branch_verdict(pr, control, v, st, falling)
 
 
@@ -256,16 +256,16 @@ def _branch_verdict(pr: Sinusoid1D, control: str, v: float, st: State, falling) 
     col, name = (0, "p̃") if load else (1, "Δ̃")
     note = ""
     if falling is not None:
-        s = falling.info["branch_slope"] / (pr.k * (pr.p_star() if load else pr.amp))
+        s = falling.info.branch_slope / (pr.k * (pr.p_star() if load else pr.amp))
         note = (f"; the equilibrium found at ã = {pr.k * falling.domain.a:.4g} lies on the "
                 f"falling branch (d{name}/dã = {s:.3g} ≤ 0: unstable under "
                 f"{'load' if load else 'displacement'} control)")
 
     def unsettled(why):
         if falling is not None:
-            return Verdict("unstable", why + note, falling, falling.info["residual"])
-        return Verdict("not_converged", f"{why}; direct search: {st.info['message']}",
-                       residual=st.info.get("residual", np.nan))
+            return Verdict("unstable", why + note, falling, falling.info.residual)
+        return Verdict("not_converged", f"{why}; direct search: {st.info.message}",
+                       residual=st.info.residual)
 
     br = _Branch(pr)
     A, P, D = br.trace(VERDICT_GRID / pr.k)
@@ -339,18 +339,18 @@ def _branch_verdict(pr: Sinusoid1D, control: str, v: float, st: State, falling) 
         except ValueError:  # a point in the bracket not found
             continue
         pt = br.state(a_star)
-        if not pt.info["converged"]:
+        if not pt.info.converged:
             continue
         ctl = {control: v * (pr.p_star() if load else pr.amp)}
         eq = pr.equilibrium(guess=(pt.l1, pt.l2), **ctl)  # the same residual test as above
-        if not eq.info["converged"]:
+        if not eq.info.converged:
             continue
-        eq.info["branch_slope"] = _slope(pr, eq, control)
-        if eq.info["branch_slope"] > 0:
-            s = eq.info["branch_slope"] / (pr.k * (pr.p_star() if load else pr.amp))
-            return Verdict("partial", f"{eq.info['message']}; found on the rising branch "
+        eq.info.branch_slope = _slope(pr, eq, control)
+        if eq.info.branch_slope > 0:
+            s = eq.info.branch_slope / (pr.k * (pr.p_star() if load else pr.amp))
+            return Verdict("partial", f"{eq.info.message}; found on the rising branch "
                            f"by tracing {name}(ã), d{name}/dã = {s:.3g} > 0" + note, eq,
-                           eq.info["residual"])
+                           eq.info.residual)
     return unsettled(f"{name} = {v:.6g} lies on the rising part of the branch {span} "
                      f"(from {vals[0]:.6g} to {vals[-1]:.6g}), but no stable equilibrium was "
                      "found there")
@@ -367,7 +367,7 @@ def _summary(pr: Sinusoid1D, st: State) -> dict:
     """Dimensionless scalars of a state (k = Λ = E0* = 1 units)."""
     k, lam = pr.k, pr.lam
     pstar = pr.p_star()
-    control, value = st.info.get("control", ("mean_pressure", None))
+    control, value = st.info.control
     # the prescribed load, not its rounding (μ̄ at p̃ = 0 is then ±inf, not F/1e-19)
     pm = value if control == "mean_pressure" and value is not None else st.mean_pressure
     out = {
@@ -379,7 +379,7 @@ def _summary(pr: Sinusoid1D, st: State) -> dict:
                    if pr.kernel.visco else 0.0),
         "K1": st.K[0], "K2": st.K[1],
     }
-    slope = st.info.get("branch_slope", np.nan)
+    slope = st.info.branch_slope if st.info.branch_slope is not None else np.nan
     out["branch_slope"] = slope / (k * (pstar if control == "mean_pressure" else pr.amp))
     if pr.dgamma > 0 and pr.a0 > 0 and st.work[0] is not None:
         G1, G2 = (ew.dU / pr.a0 for ew in st.work)
@@ -396,7 +396,7 @@ def _summary(pr: Sinusoid1D, st: State) -> dict:
 
 def branch_point(pr: Sinusoid1D, a: float, guess=(0.0, None)):
     """Equilibrium at half-width a: the eccentricity e and penetration Δ at which both edges
-    balance.  Returns State (``info['converged']``).
+    balance.  Returns State (``info.converged``).
 
     The state is linear in Δ for a fixed domain, so for each trial e the trailing-edge balance
     gives Δ in closed form (:meth:`Sinusoid1D.edge_balance_delta`) and only the leading-edge
@@ -410,8 +410,8 @@ def branch_point(pr: Sinusoid1D, a: float, guess=(0.0, None)):
     over = pr.interpenetration(st)
     if over > 1e-6:  # both edges balance, but the surface crosses the profile elsewhere
         message = f"inadmissible: interpenetrates by {over:.1e} Λ outside the contact"
-    st.info = {"converged": bool(res < 1e-8 and over <= 1e-6), "message": message,
-               "residual": float(res)}
+    st.info = SolveInfo(converged=bool(res < 1e-8 and over <= 1e-6), message=message,
+                        residual=float(res), interpenetration=over)
     return st
 
 

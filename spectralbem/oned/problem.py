@@ -45,6 +45,23 @@ class _Shape:
 
 
 @dataclass
+class SolveInfo:
+    """How :meth:`Sinusoid1D.equilibrium` found a state: whether both edges balance within
+    its tolerance (``converged``, with the reason), the evaluations, the largest and both
+    edge residuals, the control ``(name, value)``, the interpenetration outside the contact
+    (units of Λ) and, once computed, the slope of the equilibrium branch (None before)."""
+
+    converged: bool = False
+    message: str = ""
+    nfev: int = 0
+    residual: float = float("nan")
+    residuals: tuple = ()
+    control: tuple = ("mean_pressure", None)
+    interpenetration: float = 0.0
+    branch_slope: float | None = None
+
+
+@dataclass
 class State:
     domain: Domain
     coef: np.ndarray
@@ -52,7 +69,7 @@ class State:
     mean_pressure: float
     K: tuple
     work: tuple = (None, None)
-    info: dict = field(default_factory=dict)
+    info: SolveInfo = field(default_factory=SolveInfo)
 
     @property
     def l1(self):
@@ -347,7 +364,7 @@ class Sinusoid1D:
 
         A state whose surface crosses the rigid profile outside the contact (by more than
         1e-6 Λ at 64 points of the separated part) is not an equilibrium: not converged, with
-        the reason in ``info['message']`` (:meth:`robust_equilibrium` then tries the next
+        the reason in ``info.message`` (:meth:`robust_equilibrium` then tries the next
         guess).
 
         Converged when both edge residuals ``√(δL_i/(a0 Δγ)) - 1`` (or the SIF residuals) are
@@ -395,9 +412,8 @@ class Sinusoid1D:
         if over > 1e-6:  # both edges balance, but the surface crosses the profile elsewhere
             ok = False
             message = f"inadmissible: interpenetrates by {over:.1e} Λ outside the contact"
-        st.info = {"converged": ok, "message": message, "nfev": count[0],
-                   "residual": float(np.max(np.abs(f))), "residuals": tuple(f),
-                   "control": (control, value), "interpenetration": over}
+        st.info = SolveInfo(ok, message, count[0], float(np.max(np.abs(f))), tuple(f),
+                            (control, value), over)
         return st
 
     def guesses(self, control, value):
@@ -416,7 +432,7 @@ class Sinusoid1D:
         falling branch (:func:`branch_slope` ≤ 0, beyond the snap-in maximum: unstable) is
         kept only if no guess reaches the rising branch — measured: the ζ sweep at p̃∞ = 0.15
         continued from ζ = 0.3 (ã = 1.37) reached ã = 2.19 at ζ = 1, where dp̃/dã < 0, while
-        the elastic guess gives the rising ã = 0.90.  ``info['branch_slope']`` is reported.
+        the elastic guess gives the rising ã = 0.90.  ``info.branch_slope`` is reported.
         """
         control, value = one_control(mean_pressure, penetration)
         st = falling = None
@@ -427,13 +443,13 @@ class Sinusoid1D:
                 continue  # the same start again (e.g. |E(kv)| ≈ E0 at small ζ) would fail again
             tried.append(g)
             st = self.equilibrium(guess=g, **{control: value})
-            if not st.info["converged"]:
+            if not st.info.converged:
                 continue
             from .branches import branch_slope  # the branch is traced on this problem
 
-            st.info["branch_slope"] = (branch_slope(self, st, control) if self.dgamma > 0
+            st.info.branch_slope = (branch_slope(self, st, control) if self.dgamma > 0
                                        else np.inf)  # without adhesion p(a) only rises
-            if not st.info["branch_slope"] <= 0:
+            if not st.info.branch_slope <= 0:
                 return st
             falling = falling or st
         return falling or st

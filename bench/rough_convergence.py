@@ -31,7 +31,6 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from spectralbem.criterion import default_smoothing  # noqa: E402
 from spectralbem.scenes import load_scene, read_scene_file, solve  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -45,8 +44,7 @@ MATERIALS = {
 
 def _solve(n: int, material: str, a0: float, sigma: float | None, loads=None):
     """(Dataset, CPU s) of the case at N², the material's overrides, a0 (m), σ (in units of
-    a0, growing with large patches as by default; None: the default, 0.75 a0 but at least
-    1.5 cells in elastic scenes and 1.5 a0 in viscoelastic ones) and the load path
+    a0, growing with large patches as by default; None: the default 1.5) and the load path
     (None: the case's)."""
     raw = read_scene_file(CASE)
     if MATERIALS[material] is not None:
@@ -127,7 +125,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
     for (mat, a0, sig), rs in sorted(by.items(), key=lambda kv: str(kv[0])):
         rs = sorted(rs, key=lambda r: r["N"])
         lines += [f"## {mat}, a0 = {a0 * 1e6:g} µm, front smoothing σ = "
-                  f"{_default_label(mat) if sig is None else f'{sig:g} a0'}", "",
+                  f"{'default (1.5 a0)' if sig is None else f'{sig:g} a0'}", "",
                   "| N | step | status | balanced | area | mean gap (µm) | μ | μ_a | G1/Δγ | "
                   "G2/Δγ | CPU s |", "|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in rs:
@@ -201,11 +199,6 @@ def _pair_table(rs: list) -> list:
     return lines + [""]
 
 
-def _default_label(material: str) -> str:
-    return ("default (1.5 a0)" if material != "elastic"
-            else "default (0.75 a0, at least 1.5 cells)")
-
-
 def lengths_report(scans: list) -> list:
     """The tables of the elastic loading state against a0 and σ at each N, and of a0 = one
     cell at every N with its Richardson estimate."""
@@ -213,15 +206,13 @@ def lengths_report(scans: list) -> list:
         return []
     lines = ["## Numerical lengths of the elastic state (loading, 1e4 Pa)", "",
              "`python bench/rough_convergence.py --scan`: a0 and the front smoothing σ "
-             "(default in this elastic scene: 0.75 a0, at least 1.5 cells; every row grows "
-             "σ to 0.23 of a large patch's radius).", "",
+             "(default: 1.5 a0; every row grows σ to 0.23 of a large patch's radius).", "",
              "| N | a0 (cells) | a0 (µm) | σ/a0 | σ (µm) | status | balanced | area | "
              "front length (mm) | CPU s |", "|---|---|---|---|---|---|---|---|---|---|"]
     for r in sorted(scans, key=lambda r: (r["N"], r["a0_cells"], -1 if r["sigma"] is None
                                           else r["sigma"])):
         a0 = r['a0_cells'] * 1e3 / r['N']
-        sig = (default_smoothing(False, r['a0_cells']) if r['sigma'] is None
-               else r['sigma'])
+        sig = 1.5 if r['sigma'] is None else r['sigma']
         lines.append(f"| {r['N']} | {r['a0_cells']:g} | {a0:.3g} | "
                      f"{'default' if r['sigma'] is None else format(sig, 'g')} | "
                      f"{sig * a0:.3g} | "

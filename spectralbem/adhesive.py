@@ -134,9 +134,8 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     final mask, for the outputs — cheaper, less accurate: docs/performance.md).
     ``front_smoothing``: σ of the average along the front in units of a0
     (criterion.smooth_along_front; None: 1.5 in a viscoelastic scene, 0.75 in an elastic
-    one but at least 1.5 cells, criterion.default_smoothing), raised to
-    ``smoothing_per_radius`` times the front radius 2A/P of large patches
-    (criterion.patch_sigmas; 0 keeps σ fixed).
+    one, criterion.default_smoothing), raised to ``smoothing_per_radius`` times the front
+    radius 2A/P of large patches (criterion.patch_sigmas; 0 keeps σ fixed).
 
     ``flaw_radius``: radius (m) of the flaw through which a full contact may open (default
     a0; module docstring).  In an elastic scene it decides by Griffith's condition whether
@@ -154,7 +153,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     h = check_heights(heights, cell)
     _check_inputs(cell, penetration, mean_pressure, dgamma, a0, criterion, front_tol)
     if front_smoothing is None:
-        front_smoothing = default_smoothing(op.viscoelastic, a0 / min(cell.hx, cell.hy))
+        front_smoothing = default_smoothing(op.viscoelastic)
     test_kw = dict(rtol=rtol, vhat=sliding_direction(op), front_smoothing=front_smoothing,
                    smoothing_per_radius=smoothing_per_radius, observables=observables)
     run = _FrontIteration(op, h, dgamma, a0, penetration, mean_pressure, mask0, test_kw,

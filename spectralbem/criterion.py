@@ -41,17 +41,12 @@ _CROSS = ndimage.generate_binary_structure(2, 1)
 #: the smaller default applies (docs/theory.md, "Averaging along the front": the measurements)
 FRONT_SMOOTHING = 1.5
 FRONT_SMOOTHING_ELASTIC = 0.75
-#: the elastic default never averages over fewer cells than this (the staircase scatter)
-ELASTIC_MIN_CELLS = 1.5
 
 
-def default_smoothing(viscoelastic: bool, a0_cells: float) -> float:
-    """The default σ/a0 of a scene whose a0 spans ``a0_cells`` cells:
-    :data:`FRONT_SMOOTHING` when viscoelastic, else σ = max(FRONT_SMOOTHING_ELASTIC a0,
-    ELASTIC_MIN_CELLS h) (docs/theory.md, "Averaging along the front")."""
-    if viscoelastic:
-        return FRONT_SMOOTHING
-    return max(FRONT_SMOOTHING_ELASTIC, ELASTIC_MIN_CELLS / a0_cells)
+def default_smoothing(viscoelastic: bool) -> float:
+    """The default σ/a0 of a scene: :data:`FRONT_SMOOTHING` when viscoelastic, else
+    :data:`FRONT_SMOOTHING_ELASTIC`."""
+    return FRONT_SMOOTHING if viscoelastic else FRONT_SMOOTHING_ELASTIC
 
 #: σ = max(FRONT_SMOOTHING a0, SMOOTHING_PER_RADIUS r) for a patch of front radius r
 #: (:func:`patch_sigmas`; measured in docs/performance.md, the adhesive sphere); 0: σ fixed

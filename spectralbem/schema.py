@@ -148,8 +148,7 @@ SECTIONS = {
         "front_smoothing": _k("number", "σ of the Gaussian average of the energy balance "
                               "along the front, in units of adhesion.a0 (adhesive scenes; "
                               "default 1.5 in viscoelastic scenes, where it is a physical "
-                              "length, 0.75 (at least 1.5 cells) in elastic ones, where "
-                              "it is numerical)",
+                              "length, 0.75 in elastic ones, where it is numerical)",
                               "a0", 0, 100, default=None),
         "smoothing_per_radius": _k("number", "σ grows to this fraction of the front "
                                    "radius 2A/P of large contact patches (0: σ fixed)", "", 0, 1,

@@ -238,11 +238,8 @@ def test_front_smoothing_defaults_are_the_solvers():
     from spectralbem.schema import SECTIONS
 
     assert SECTIONS["solver"]["front_smoothing"].default is None  # by the scene's kind
-    assert cr.default_smoothing(True, 1.0) == cr.FRONT_SMOOTHING == 1.5
-    # elastic: 0.75 a0, at least 1.5 cells (σ = 1.5 cells at a0 of one or two cells)
-    assert cr.default_smoothing(False, 4.0) == cr.FRONT_SMOOTHING_ELASTIC == 0.75
-    assert cr.default_smoothing(False, 2.0) == 0.75
-    assert cr.default_smoothing(False, 1.0) == 1.5
+    assert cr.default_smoothing(True) == cr.FRONT_SMOOTHING == 1.5
+    assert cr.default_smoothing(False) == cr.FRONT_SMOOTHING_ELASTIC == 0.75
     assert SECTIONS["solver"]["smoothing_per_radius"].default == cr.SMOOTHING_PER_RADIUS
 
 

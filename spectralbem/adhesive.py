@@ -132,9 +132,9 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     'hybrid' (the zero-solve predictor moves the front until it stops, then the exact tests
     finish) or 'predictor' (the predictor alone; the exact tests are evaluated once on the
     final mask, for the outputs — cheaper, less accurate: docs/performance.md).
-    ``front_smoothing``: σ of the average along the front in units of a0
-    (criterion.smooth_along_front; None: 1.5 in a viscoelastic scene, 0.75 in an elastic
-    one, criterion.default_smoothing), raised to ``smoothing_per_radius`` times the front
+    ``front_smoothing``: σ of the average along the front in units of a0 (None: 1.5 in a
+    viscoelastic scene, 0.75 in an elastic one, criterion.default_smoothing)
+    (criterion.smooth_along_front), raised to ``smoothing_per_radius`` times the front
     radius 2A/P of large patches (criterion.patch_sigmas; 0 keeps σ fixed).
 
     ``flaw_radius``: radius (m) of the flaw through which a full contact may open (default

@@ -28,8 +28,8 @@ import numpy as np
 from .contact import friction, full_contact, sliding_direction
 from .conventions import control
 from .criterion import (
+    FRONT_SMOOTHING,
     SMOOTHING_PER_RADIUS,
-    default_smoothing,
     front_cells,
     front_tests,
     predictor_tests,
@@ -115,7 +115,7 @@ def _check_inputs(cell, penetration, mean_pressure, dgamma, a0, criterion, front
 def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float, *,
                    penetration: float | None = None, mean_pressure: float | None = None,
                    mask0: np.ndarray | None = None, max_outer: int = 500,
-                   front_smoothing: float | None = None,
+                   front_smoothing: float = FRONT_SMOOTHING,
                    smoothing_per_radius: float = SMOOTHING_PER_RADIUS,
                    rtol: float = 1e-10, observables: dict | None = None,
                    criterion: str = "exact", front_tol: float = FRONT_TOL,
@@ -132,8 +132,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     'hybrid' (the zero-solve predictor moves the front until it stops, then the exact tests
     finish) or 'predictor' (the predictor alone; the exact tests are evaluated once on the
     final mask, for the outputs — cheaper, less accurate: docs/performance.md).
-    ``front_smoothing``: σ of the average along the front in units of a0 (None: 1.5 in a
-    viscoelastic scene, 0.75 in an elastic one, criterion.default_smoothing)
+    ``front_smoothing``: σ of the average along the front in units of a0
     (criterion.smooth_along_front), raised to ``smoothing_per_radius`` times the front
     radius 2A/P of large patches (criterion.patch_sigmas; 0 keeps σ fixed).
 
@@ -152,8 +151,6 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     cell = op.cell
     h = check_heights(heights, cell)
     _check_inputs(cell, penetration, mean_pressure, dgamma, a0, criterion, front_tol)
-    if front_smoothing is None:
-        front_smoothing = default_smoothing(op.viscoelastic)
     test_kw = dict(rtol=rtol, vhat=sliding_direction(op), front_smoothing=front_smoothing,
                    smoothing_per_radius=smoothing_per_radius, observables=observables)
     run = _FrontIteration(op, h, dgamma, a0, penetration, mean_pressure, mask0, test_kw,

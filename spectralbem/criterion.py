@@ -36,17 +36,9 @@ from .spectral import SpectralOperator
 _CROSS = ndimage.generate_binary_structure(2, 1)
 
 
-#: σ of the average of the balance along the front, in units of a0: a physical length in
-#: viscoelastic scenes, numerical in elastic ones, where the area's bias grows with σ and
-#: the smaller default applies (docs/theory.md, "Averaging along the front": the measurements)
+#: σ of the average of the balance along the front, in units of a0 (docs/theory.md,
+#: "Averaging along the front", where the measurements of σ live)
 FRONT_SMOOTHING = 1.5
-FRONT_SMOOTHING_ELASTIC = 0.75
-
-
-def default_smoothing(viscoelastic: bool) -> float:
-    """The default σ/a0 of a scene: :data:`FRONT_SMOOTHING` when viscoelastic, else
-    :data:`FRONT_SMOOTHING_ELASTIC`."""
-    return FRONT_SMOOTHING if viscoelastic else FRONT_SMOOTHING_ELASTIC
 
 #: σ = max(FRONT_SMOOTHING a0, SMOOTHING_PER_RADIUS r) for a patch of front radius r
 #: (:func:`patch_sigmas`; measured in docs/performance.md, the adhesive sphere); 0: σ fixed

@@ -299,10 +299,10 @@ def _bar_progress(bar):
 
 def _smoothing(scene) -> dict:
     """The front-smoothing keywords of solve_adhesive: the scene's, else criterion's
-    defaults (the schema's defaults are the same, tested; σ None: by the scene's kind)."""
-    from .criterion import SMOOTHING_PER_RADIUS
+    defaults (the schema's defaults are the same numbers, tested)."""
+    from .criterion import FRONT_SMOOTHING, SMOOTHING_PER_RADIUS
 
-    return {"front_smoothing": scene.solver.get("front_smoothing"),
+    return {"front_smoothing": scene.solver.get("front_smoothing", FRONT_SMOOTHING),
             "smoothing_per_radius": scene.solver.get("smoothing_per_radius",
                                                      SMOOTHING_PER_RADIUS)}
 

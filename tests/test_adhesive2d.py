@@ -237,9 +237,7 @@ def test_front_smoothing_defaults_are_the_solvers():
     from spectralbem import criterion as cr
     from spectralbem.schema import SECTIONS
 
-    assert SECTIONS["solver"]["front_smoothing"].default is None  # by the scene's kind
-    assert cr.default_smoothing(True) == cr.FRONT_SMOOTHING == 1.5
-    assert cr.default_smoothing(False) == cr.FRONT_SMOOTHING_ELASTIC == 0.75
+    assert SECTIONS["solver"]["front_smoothing"].default == cr.FRONT_SMOOTHING
     assert SECTIONS["solver"]["smoothing_per_radius"].default == cr.SMOOTHING_PER_RADIUS
 
 

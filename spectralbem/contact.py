@@ -141,9 +141,7 @@ def full_contact(op, h, mean_pressure=None, penetration=None):
     return p, delta
 
 
-#: most changed cells whose projection correction is summed directly instead of transformed,
-#: at 512² (a rank-k update costs ≈ k/20 of a forward transform at 512², k/40 at 1024², k/80
-#: at 2048²: measured); it grows as √(cells): 32 at 1024², 64 at 2048²
+#: most changed cells whose correction is summed directly, at 512² (docs/performance.md)
 SPARSE_MAX = 16
 
 

@@ -53,19 +53,15 @@ START_TOL = 1e-3
 #: iterations of the |Ĉ| start before it gives way to the relaxed elastic start
 START_MAXITER = 300
 
-#: outer iterations after which the set moves only its worst offender per side (as the
-#: active set does): exact Newton steps were measured to wander, ±10 cells of a 400-cell set
-#: for 100 steps with violations of the order of the peak pressure (rough 128², β = 100,
-#: ζ = 1); the damped steps converge there
+#: outer iterations after which the set moves only its worst offender per side
+#: (docs/performance.md, the Newton method)
 DAMP_AFTER = 30
 
 #: factor by which the solve tolerance tightens once the set stops moving (or moves no less
 #: than STALL times as many cells as at the previous step)
 LADDER = 1e-3
 STALL = 0.5
-#: ... when the set moves no more than this many cells (a front-sized wander; 2048² rough
-#: sets still shed thousands of cells per step at the loose tolerance, and tightening there
-#: made each step 3× dearer)
+#: ... when the set moves no more than this many cells (docs/performance.md)
 STALL_CELLS = 32
 
 

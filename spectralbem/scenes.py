@@ -253,9 +253,7 @@ def _grid_from_file(raw: dict, base: Path) -> dict:
     return out
 
 
-#: peak memory of a grid solve per cell (bytes): the peak resident size above the imported
-#: package, measured at 512² and 1024² (Polonsky–Keer 200, the viscoelastic active set 345,
-#: the adhesive front iteration 460 B/cell), with a margin of 1.4
+#: peak memory of a grid solve per cell (bytes), with a margin (docs/performance.md, scaling)
 SOLVE_BYTES_PER_CELL = {"elastic": 280, "viscoelastic": 480, "adhesive": 650}
 #: the fields a dataset keeps of each state (five float64 fields and the int8 mask)
 FIELD_BYTES_PER_CELL = 41

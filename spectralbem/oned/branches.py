@@ -45,9 +45,7 @@ def dimensionless_problem(zeta: float, beta: float, Gamma: float, a0_tilde: floa
                       a0=a0_tilde, modes=modes, quad=quad, strip_nodes=strip_nodes, E_ref=1.0)
 
 
-#: the smallest positive advance width ã0 = k a0 the strip quadrature resolves: below it the
-#: edge residual's rounding floor (g₋ ~ K√a0 from u - w of order Λ) nears the tolerance 1e-8
-#: (measured at p̃ = 0.15: 1e-10 at ã0 = 1e-6, 1e-9 at 3e-7, 3e-8 at 1e-7, not converged)
+#: the smallest positive ã0 = k a0 the strip quadrature resolves (docs/oned.md, a0)
 A0_MIN = 1e-6
 
 

@@ -28,12 +28,18 @@ from .spectral import SpectralOperator
 REPORTED = ("partial", "full_contact", "detached")
 
 
-def _friction(op, h, p, u) -> dict:
-    """contact.friction, with :func:`quotient`'s convention where the net normal force
-    vanishes (a detached state, an adhesive contact at zero load): never nan."""
+#: the friction coefficients a state carries (contact.friction)
+FRICTION = ("mu", "mu_lateral", "mu_profile", "mu_dissipation")
+
+
+def _friction(op, h, p, u, state) -> dict:
+    """The friction coefficients of (p, u): the solver's (``state``'s) when they are its
+    fields, with :func:`quotient`'s convention where the net normal force vanishes (a
+    detached state, an adhesive contact at zero load): never nan."""
     from .contact import friction
 
-    fr = friction(op, h, p, u)
+    fr = ({k: getattr(state, k) for k in FRICTION} if p is state.pressure
+          else friction(op, h, p, u))
     if not any(np.isnan(v) for v in fr.values()):
         return fr
     cell = op.cell
@@ -87,7 +93,6 @@ def _undefined(status: str, message: str, scalars: dict, skip=()) -> tuple:
 
 def _solve_seed_grid(scene: Scene, mask0=None, progress=None):
     """The seed scene on the grid: the 1D method's dimensionless names."""
-
     from . import front
 
     op = _operator(scene)
@@ -108,7 +113,7 @@ def _solve_seed_grid(scene: Scene, mask0=None, progress=None):
         vperp = (-vhat[1], vhat[0])
         obs = {"load": np.ones(cell.shape), "force": -cell.derivative(h, vhat),
                "lateral": -cell.derivative(h, vperp)}
-        r = _grid_state(scene, op, mask0, progress, obs)
+        state = r = _grid_state(scene, op, mask0, progress, obs)
         p, mask, delta, status = r.pressure, r.contact, r.penetration, r.status
         out["p_front"] = r.mean_pressure
         u = r.displacement
@@ -125,7 +130,7 @@ def _solve_seed_grid(scene: Scene, mask0=None, progress=None):
         if status in ("detached", "full_contact"):  # no front: nothing unbalanced
             info.update(balanced_fraction=1.0, front_residual=0.0)
     else:
-        res = _grid_state(scene, op, progress=progress)
+        state = res = _grid_state(scene, op, progress=progress)
         p, mask, delta, u = res.pressure, res.contact, res.penetration, res.displacement
         status = res.status
         l1 = l2 = np.nan
@@ -141,7 +146,7 @@ def _solve_seed_grid(scene: Scene, mask0=None, progress=None):
         l1 = l2 = np.pi
     if status in ("detached", "full_contact") or not scene.adhesive:
         out.update(G1_over_dgamma=0.0, G2_over_dgamma=0.0)  # no edge, or no adhesion
-    fr = _friction(op, h, p, u)
+    fr = _friction(op, h, p, u, state)
     pm = out.pop("p_front", float(p.mean()))
     mu = out.pop("mu_bar_force_front", fr["mu_profile"])
     mu_lat = out.pop("mu_bar_lateral_front", fr["mu_lateral"])
@@ -208,7 +213,6 @@ def _adhesiveless_mask(op, scene: Scene):
 
 
 def _solve_grid(scene: Scene, mask0=None, progress=None):
-
     from .front import front_outputs, small_patch_diameter
 
     op = _operator(scene)
@@ -221,7 +225,7 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
         # the new load's Δ; unloading: the adhesiveless contact is inside the carried one)
         m_free = _adhesiveless_mask(op, scene)
         mask0 = m_free if mask0 is None else (mask0 | m_free if m_free is not None else mask0)
-        r = _grid_state(scene, op, mask0, progress)
+        state = r = _grid_state(scene, op, mask0, progress)
         p, mask, delta, status = r.pressure, r.contact, r.penetration, r.status
         u = r.displacement
         msg = r.message
@@ -254,11 +258,10 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
         else:
             sc.update(G1=np.nan, G2=np.nan, mu_adhesive=np.nan, front_length=np.nan,
                       small_patch_diameter=np.nan)
-        diag = {"a0": r.a0, "edge_shift": r.edge_shift,
-                "method": "front-layer energy balance, sub-cell front",
+        diag = {"a0": r.a0, "edge_shift": r.edge_shift, "method": r.method,
                 "history": r.history[-20:]}
     else:
-        res = _grid_state(scene, op, progress=progress)
+        state = res = _grid_state(scene, op, progress=progress)
         p, mask, delta, u = res.pressure, res.contact, res.penetration, res.displacement
         status = res.status
         msg = res.message
@@ -266,9 +269,9 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
         sc.update(iterations=res.iterations)
         area, pm = None, float(p.mean())
         diag = {"method": res.method, **res.diagnostics}
-    w = h - float(h.max()) + delta
-    gap = np.where(mask, 0.0, u - w)
-    fr = _friction(op, h, p, u)
+    gap = state.gap if p is state.pressure else np.where(
+        mask, 0.0, u - (h - float(h.max()) + delta))
+    fr = _friction(op, h, p, u, state)
     sc.update(mean_pressure=pm, penetration=float(delta),
               area_fraction=float(mask.mean()) if area is None else area, **fr)
     status, msg = _undefined(status, msg, sc)

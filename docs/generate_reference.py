@@ -63,7 +63,7 @@ API_MODULES = ("spectralbem", "spectralbem.scenes", "spectralbem.surfaces",
                "spectralbem.sinusoid1d", "spectralbem.sweep", "spectralbem.io",
                "spectralbem.plotting", "spectralbem.plausibility", "spectralbem.reference",
                "spectralbem.conventions", "spectralbem.kinds", "spectralbem.keys",
-               "spectralbem.backend", "spectralbem.results")
+               "spectralbem.backend", "spectralbem.results", "spectralbem.coarse")
 
 
 def _first_line(obj) -> str:

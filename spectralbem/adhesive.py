@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import coarse
 from .contact import friction, full_contact, sliding_direction
 from .conventions import control
 from .criterion import (
@@ -119,7 +120,8 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
                    smoothing_per_radius: float = SMOOTHING_PER_RADIUS,
                    rtol: float = 1e-10, observables: dict | None = None,
                    criterion: str = "exact", front_tol: float = FRONT_TOL,
-                   flaw_radius: float | None = None, progress=None) -> AdhesiveState:
+                   flaw_radius: float | None = None, progress=None,
+                   coarse_start: bool = False) -> AdhesiveState:
     """Adhesive equilibrium under penetration or mean-pressure control.
 
     ``dgamma``: work of adhesion Δγ (J/m², scalar or per-cell map); ``a0``: advance width (m),
@@ -140,6 +142,11 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     a0; module docstring).  In an elastic scene it decides by Griffith's condition whether
     the full contact opens, so it is a physical input there, unlike a0.
 
+    ``coarse_start``: start from the same scene's balanced front on the grid of half the
+    cells per side, solved first the same way (recursively; :mod:`spectralbem.coarse`):
+    fewer outer iterations on fine grids; ignored where the grid does not halve into one
+    of at least ``coarse.COARSE_MIN`` cells per side no wider than a0.
+
     ``progress``: None or a callable ``progress(iteration, text)`` called at the start of
     every outer iteration and once more, with the same iteration, for the final state (the
     command line's progress bar).
@@ -151,11 +158,36 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     cell = op.cell
     h = check_heights(heights, cell)
     _check_inputs(cell, penetration, mean_pressure, dgamma, a0, criterion, front_tol)
+    if coarse_start and coarse.eligible(cell, a0):
+        mask0 = _coarse_start(op, h, dgamma, a0, penetration, mean_pressure, mask0, dict(
+            max_outer=max_outer, front_smoothing=front_smoothing,
+            smoothing_per_radius=smoothing_per_radius, rtol=rtol, criterion=criterion,
+            front_tol=front_tol, flaw_radius=flaw_radius), progress)
     test_kw = dict(rtol=rtol, vhat=sliding_direction(op), front_smoothing=front_smoothing,
                    smoothing_per_radius=smoothing_per_radius, observables=observables)
     run = _FrontIteration(op, h, dgamma, a0, penetration, mean_pressure, mask0, test_kw,
                           criterion, front_tol, flaw_radius)
     return run.solve(max_outer, progress)
+
+
+def _coarse_start(op, h, dgamma, a0, penetration, mean_pressure, mask0, kw, progress):
+    """The fine start of :func:`solve_adhesive`: the balanced front of the same scene on
+    the grid of half the cells per side (solved from the restricted ``mask0``, itself with a
+    coarse start), sampled at the fine centres; ``mask0`` itself when that solve does not
+    end on a verified partial contact."""
+    cop = coarse.coarse_operator(op)
+    hc = coarse.restrict(h)
+    if penetration is not None:  # the same rigid-body position: Δ is measured from max h
+        penetration = penetration - (float(h.max()) - float(hc.max()))
+    if progress is not None:
+        progress(0, f"coarse start on {cop.cell.Nx}×{cop.cell.Ny}")
+    state = solve_adhesive(cop, hc, coarse.restrict(dgamma), a0, penetration=penetration,
+                           mean_pressure=mean_pressure,
+                           mask0=None if mask0 is None else coarse.restrict(mask0),
+                           coarse_start=True, **kw)
+    if state.status != "partial":
+        return mask0
+    return coarse.prolong(state, op.cell)
 
 
 _BREAK, _NEXT = "break", "next"

@@ -158,6 +158,10 @@ SECTIONS = {
                         "zero-solve predictor then exact tests (hybrid), or the predictor "
                         "alone (predictor; less accurate, see docs/performance.md)",
                         choices=("exact", "hybrid", "predictor"), default="exact"),
+        "coarse_start": _k("boolean", "adhesive scenes: start the front from the same scene "
+                           "solved on the grid of half the cells per side (recursively; "
+                           "fewer front iterations in elastic scenes, see "
+                           "docs/performance.md)", default=False),
     },
     "output": {
         "fields": _k("boolean", "store the 2D fields (pressure, gap, ...) in the dataset",

@@ -302,8 +302,9 @@ def adhesive_rows(sizes):
             ov = {"grid.Nx": n, "grid.Ny": n}
             times = {}
             solve(load_scene(free, overrides=ov, base_dir=case.parent))  # plans, compiles
-            for name, r in (("adhesiveless", free), ("adhesive", raw)):
-                scene = load_scene(r, overrides=ov, base_dir=case.parent)
+            for name, r, extra in (("adhesiveless", free, {}), ("adhesive", raw, {}),
+                                   ("coarse", raw, {"solver.coarse_start": True})):
+                scene = load_scene(r, overrides={**ov, **extra}, base_dir=case.parent)
                 t = time.process_time()
                 ds = solve(scene)
                 times[name] = (time.process_time() - t, ds)
@@ -314,6 +315,11 @@ def adhesive_rows(sizes):
                        status=str(ds["status"].values), outer=int(ds["iterations"]),
                        area=float(ds["area_fraction"]),
                        area_adhesiveless=float(times["adhesiveless"][1]["area_fraction"]))
+            dc = times["coarse"][1]
+            row.update(coarse_seconds=times["coarse"][0],
+                       coarse_ratio=times["coarse"][0] / times["adhesiveless"][0],
+                       coarse_status=str(dc["status"].values), coarse_outer=int(dc["iterations"]),
+                       coarse_area=float(dc["area_fraction"]))
             rows.append(row)
             print(json.dumps(row), flush=True)
     return rows
@@ -321,12 +327,15 @@ def adhesive_rows(sizes):
 
 def adhesive_markdown(rows) -> str:
     lines = ["| N² | material | adhesive state (s) | adhesiveless (s) | ratio | status | "
-             "front iterations | area (adhesive / adhesiveless) |",
-             "|---|---|---|---|---|---|---|---|"]
+             "front iterations | area (adhesive / adhesiveless) | with coarse start (s) | "
+             "ratio | status | fine front iterations | area |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         lines.append(f"| {r['N']}² | {r['material']} | {r['adhesive_seconds']:.2f} | "
                      f"{r['adhesiveless_seconds']:.3f} | **{r['ratio']:.0f}×** | {r['status']} | "
-                     f"{r['outer']} | {r['area']:.4f} / {r['area_adhesiveless']:.4f} |")
+                     f"{r['outer']} | {r['area']:.4f} / {r['area_adhesiveless']:.4f} | "
+                     f"{r['coarse_seconds']:.2f} | **{r['coarse_ratio']:.0f}×** | "
+                     f"{r['coarse_status']} | {r['coarse_outer']} | {r['coarse_area']:.4f} |")
     return "\n".join(lines)
 
 
@@ -347,12 +356,14 @@ def cost_figure(adhesive, table):
         rs = [r for r in adhesive if r["material"] == mat]
         series.append((f"adhesive state, {mat} (rough_convergence)", rs, "adhesive_seconds",
                        colour, "^"))
+        series.append((f"the same with the coarse start, {mat}", rs, "coarse_seconds", colour,
+                       "x"))
         series.append((f"its adhesiveless solve, {mat}", rs, "adhesiveless_seconds", colour, "v"))
     for label, rs, key, colour, marker in series:
         if rs:
             n2 = [r["N"] ** 2 for r in rs]
             ax.loglog(n2, [r[key] for r in rs], marker=marker, color=colour, label=label,
-                      ls="-" if marker in "os^" else "--")
+                      ls={"v": "--", "x": ":"}.get(marker, "-"))
     ax.set_xlabel("grid cells N²")
     ax.set_ylabel("CPU seconds (one thread)")
     ax.set_title("Cost of a solve against the grid size")

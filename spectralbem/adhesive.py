@@ -174,7 +174,8 @@ def _coarse_start(op, h, dgamma, a0, penetration, mean_pressure, mask0, kw, prog
     """The fine start of :func:`solve_adhesive`: the balanced front of the same scene on
     the grid of half the cells per side (solved from the restricted ``mask0``, itself with a
     coarse start), sampled at the fine centres; ``mask0`` itself when that solve does not
-    end on a verified partial contact."""
+    end on a verified partial contact or its front holds no fine cell centre (an empty
+    start would read as detached)."""
     cop = coarse.coarse_operator(op)
     hc = coarse.restrict(h)
     if penetration is not None:  # the same rigid-body position: Δ is measured from max h
@@ -187,7 +188,8 @@ def _coarse_start(op, h, dgamma, a0, penetration, mean_pressure, mask0, kw, prog
                            coarse_start=True, **kw)
     if state.status != "partial":
         return mask0
-    return coarse.prolong(state, op.cell)
+    fine = coarse.prolong(state, op.cell)
+    return fine if fine.any() else mask0
 
 
 _BREAK, _NEXT = "break", "next"

@@ -80,3 +80,16 @@ def test_coarse_start_reaches_a_jkr_state_as_accurate_in_fewer_iterations(contro
     assert area_radius(op, fast, w) == pytest.approx(aJ, rel=0.01)
     assert area_radius(op, plain, w) == pytest.approx(aJ, rel=0.01)
     assert fast.iterations < plain.iterations, (fast.iterations, plain.iterations)
+
+
+def test_an_empty_coarse_front_falls_back_to_the_given_start(monkeypatch):
+    """A coarse state whose balanced front holds no fine cell centre (single-cell patches
+    whose edges lie inside them) must not start the fine solve from an empty mask, which
+    reads as detached: the given start is used instead."""
+    cell, op, h, r, w = jkr_cell(256, W_JKR)
+    aJ = ref.jkr_radius(0.0, 1.0, 1.0, w)
+    monkeypatch.setattr(coarse, "prolong", lambda state, c: np.zeros(c.shape, bool))
+    res = solve_adhesive(op, h, w, 2 * cell.hx, mean_pressure=0.0, mask0=r < 0.9 * aJ,
+                         coarse_start=True)
+    assert res.status == "partial", res.message
+    assert area_radius(op, res, w) == pytest.approx(aJ, rel=0.01)

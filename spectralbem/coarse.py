@@ -68,12 +68,11 @@ def prolong(state, cell: Cell) -> np.ndarray:
     """The fine mask (``cell``: the fine grid) whose cell centres lie inside the coarse
     state's balanced front: its level set (:func:`_level_set`) interpolated bilinearly
     (periodic) to the fine centres, which lie on and halfway between the coarse ones."""
-    coarse = state.contact
+    if not state.contact.any():
+        return np.zeros(cell.shape, bool)
     phi = _level_set(state, (2 * cell.hx, 2 * cell.hy))
     fine = np.empty(cell.shape)
     fine[::2, ::2] = phi
     fine[1::2, ::2] = 0.5 * (phi + np.roll(phi, -1, 0))
     fine[:, 1::2] = 0.5 * (fine[:, ::2] + np.roll(fine[:, ::2], -1, 1))
-    if not coarse.any():
-        return np.zeros(cell.shape, bool)
     return fine > 0.0

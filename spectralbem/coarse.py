@@ -59,8 +59,7 @@ def _level_set(state, spacing) -> np.ndarray:
     phi = np.where(mask, d_in - 0.5 * h, -(d_out - 0.5 * h))
     for s in (state.offset_out, state.offset_in):
         if s is not None:
-            phi += np.clip(np.where(np.isfinite(s), s, np.where(np.isnan(s), 0.0,
-                                                                  np.sign(s) * h)), -h, h)
+            phi += np.clip(np.nan_to_num(s, nan=0.0, posinf=h, neginf=-h), -h, h)
     return phi
 
 

@@ -59,7 +59,7 @@ def reference_markdown() -> str:
 API_MODULES = ("spectralbem", "spectralbem.scenes", "spectralbem.surfaces",
                "spectralbem.materials", "spectralbem.layers", "spectralbem.spectral",
                "spectralbem.contact", "spectralbem.adhesive", "spectralbem.state",
-               "spectralbem.front",
+               "spectralbem.front", "spectralbem.along_front",
                "spectralbem.sinusoid1d", "spectralbem.sweep", "spectralbem.io",
                "spectralbem.plotting", "spectralbem.plausibility", "spectralbem.reference",
                "spectralbem.conventions", "spectralbem.kinds", "spectralbem.keys",

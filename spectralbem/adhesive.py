@@ -367,7 +367,9 @@ class _FrontIteration:
         if not tests.converged:
             self.message = "layer test: " + tests.message
             return None
-        s_out, s_in = offsets(tests.F_close, tests.F_open, outer, inner, a0, self.shift > 0)
+        s_out, s_in = offsets(tests.F_close, tests.F_open, outer, inner, a0, self.shift > 0,
+                              (tests.width_out, tests.width_in)
+                              if tests.width_out is not None else None)
         pinned = self.pinned
         if self.criterion != "predictor" and self.p.mean() > 0 and pinned.any():
             free = stale_pins(tests, mask, s_out, s_in, w, pinned, hmin)

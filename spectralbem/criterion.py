@@ -30,6 +30,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy import ndimage
 
+from .along_front import band_widths, patch_sigmas, smooth_along_front
 from .masked import solve_masked
 from .spectral import SpectralOperator
 
@@ -150,11 +151,12 @@ def bands(mask: np.ndarray, hx: float, hy: float, a0: float) -> Bands:
                  d_out, d_in, mask.copy(), (hx, hy))
 
 
-def colours(b: Bands, vhat, viscoelastic: bool):
-    """Front colours: one for elastic scenes, trailing/leading (v̂·n < 0 / ≥ 0) otherwise."""
+def colours(b: Bands, vhat, viscoelastic: bool, normal=None):
+    """Front colours: one for elastic scenes, trailing/leading (v̂·n < 0 / ≥ 0) otherwise
+    (``normal``: the bands' normal if the caller has it)."""
     if not viscoelastic:
         return [np.ones(b.outer_front.shape, bool)]
-    nx, ny = b.normal
+    nx, ny = b.normal if normal is None else normal
     vn = nx * vhat[0] + ny * vhat[1]
     return [vn < 0, vn >= 0]
 
@@ -189,6 +191,8 @@ class FrontTest:
     converged: bool
     message: str
     dLP_rate: np.ndarray | None = None  # δL_P/δA of each outer front cell's band (J/m²)
+    width_out: np.ndarray | None = None  # closing band's area per front length (m), outer
+    width_in: np.ndarray | None = None  # opening band's, on the inner front cells
 
 
 def _balance(dL, cells, owner, dg_area, F, W) -> None:  # dg_area: Δγ·a on ``cells``
@@ -215,12 +219,15 @@ def _sigma_cells(front_smoothing: float, a0: float, hmin: float, shape) -> float
 
 
 def _front_average(b: Bands, F_close, W_close, F_open, W_open, sigma: float,
-                   per_radius: float):
+                   per_radius: float, normal=None):
     """The closing and opening balances averaged along their fronts (ratio of sums, each
     front cell weighing by its band's Δγ·area), with the per-patch σ of
     :func:`patch_sigmas`."""
     sig_out, sig_in = patch_sigmas(b.mask, b.outer_front, b.inner_front, sigma, per_radius)
-    normal = b.normal if FRONT_GRAPH else None
+    if not FRONT_GRAPH:
+        normal = None
+    elif normal is None:
+        normal = b.normal
     return (smooth_along_front(F_close, b.outer_front, sig_out, W_close, normal),
             smooth_along_front(F_open, b.inner_front, sig_in, W_open, normal))
 
@@ -337,7 +344,10 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     dLP_cells = np.zeros(mask.shape)
     closing, opening = {}, {}
     psi = adjoint_weights(op, mask, p, rtol) if op.viscoelastic else None
-    cols = colours(b, vhat, op.viscoelastic)
+    normal = b.normal  # two N² arrays, computed once for the colours, averages and widths
+    cols = colours(b, vhat, op.viscoelastic, normal)
+    area_out = np.zeros(mask.shape)  # each front cell's band area (widths interpolated)
+    area_in = np.zeros(mask.shape)
     own, own_i = b.outer_owner.ravel(), b.inner_owner.ravel()
     d_out, d_in = b.outer_dist.ravel(), b.inner_dist.ravel()
     tol = 1e-9 * hmin
@@ -366,31 +376,36 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             W_close.ravel()[owners[has]] = acc["dg"][has]
             G_close.ravel()[owners[has]] = (acc["dL"][has] - acc["dLP"][has]) / acc["area"][has]
             dLP_rate.ravel()[owners[has]] = acc["dLP"][has] / acc["area"][has]
+            area_out.ravel()[owners] = acc["area"]
         band = (own_i >= 0) & col_flat[np.maximum(own_i, 0)]
         if band.any():
             owners = np.unique(own_i[band])
-            acc = {k: np.zeros(owners.size) for k in ("dL", "dg")}
+            acc = {k: np.zeros(owners.size) for k in ("dL", "dg", "area")}
             parts = []
             for m, wt in widths:
                 R = (band & (d_in <= m * hmin + tol)).reshape(mask.shape)
                 cells, dL, gr, layer = tester.open(R)
                 parts.append((wt, layer))
                 g_open.ravel()[cells] = gr  # the widest band's gaps last
-                _owner_sums({"dL": dL, "dg": _dg_area(dg, area, cells)}, own_i[cells],
-                            owners, wt, acc)
+                _owner_sums({"dL": dL, "dg": _dg_area(dg, area, cells),
+                             "area": np.full(cells.size, area)}, own_i[cells], owners, wt,
+                            acc)
             opening[ci] = _weighted(parts)
             has = acc["dg"] > 0
             F_open.ravel()[owners[has]] = acc["dL"][has] / acc["dg"][has] - 1.0
             W_open.ravel()[owners[has]] = acc["dg"][has]
+            area_in.ravel()[owners] = acc["area"]
+    sigma = _sigma_cells(front_smoothing, a0, hmin, mask.shape)
+    width_out, width_in = band_widths(b, area_out, area_in, normal, sigma, a0)
     # ratio of sums along the front: each front cell weighs by its band's Δγ·area, so that
     # owners of unequal band patches (staircase corners) do not bias the local balance
-    F_close, F_open = _front_average(b, F_close, W_close, F_open, W_open,
-                                     _sigma_cells(front_smoothing, a0, hmin, mask.shape),
-                                     smoothing_per_radius)
+    F_close, F_open = _front_average(b, F_close, W_close, F_open, W_open, sigma,
+                                     smoothing_per_radius, normal)
+    del normal
     F_close[force_close] = -np.inf
     solves = tester.solves + bool(op.viscoelastic)
     return FrontTest(F_close, F_open, G_close, dLP_cells, g_open, closing, opening, cols, b,
-                     solves, bool(tester.ok), tester.msg, dLP_rate)
+                     solves, bool(tester.ok), tester.msg, dLP_rate, width_out, width_in)
 
 
 def _mirror(field_: np.ndarray, valid: np.ndarray, cells: np.ndarray, owners: np.ndarray,
@@ -470,115 +485,3 @@ def adjoint_weights(op: SpectralOperator, mask: np.ndarray, p: np.ndarray,
     r = -op.apply_odd(p)
     res = solve_masked(op, mask, r, rtol=rtol, transpose=True)
     return r - op.apply_transpose(res.field)
-
-
-def patch_sigmas(mask, outer_front, inner_front, sigma: float, per_radius: float):
-    """σ (cells) for the outer and inner front cells: σ_patch = max(σ, per_radius · r) with
-    r = min(2A/P, P/2π) the front radius (cells) of the 4-connected contact patch the front
-    cell belongs to (area A, perimeter P: the radius of a disc, small on a convoluted patch
-    and on a short straight front); an outer front cell belongs to its neighbouring patch of
-    largest σ.  Returns (σ, σ) when every front cell gets σ, else for each side a dict
-    {"cells": flat indices of its front cells, "sigma": their σ}."""
-    if per_radius <= 0:
-        return sigma, sigma
-    lab, n = ndimage.label(mask)
-    if n == 0:
-        return sigma, sigma
-    area = np.bincount(lab.ravel(), minlength=n + 1)
-    perimeter = np.bincount(lab[inner_front], minlength=n + 1)
-    # front radius: 2A/P and P/2π are both the radius for a disc (P counted in inner front
-    # cells, 0.89·2πr on a digital disc); 2A/P is small for a convoluted (rough,
-    # percolating) patch of any area, P/2π for a short straight front (a y-invariant strip,
-    # where σ does not matter and a large one would only cost time)
-    r = np.minimum(2 * 0.89 * area / np.maximum(perimeter, 1), perimeter / (2 * np.pi * 0.89))
-    sig = np.maximum(sigma, per_radius * r)
-    sig[0] = sigma
-    if not np.any(sig[1:] > sigma):
-        return sigma, sigma
-    nx, ny = mask.shape
-    io = np.flatnonzero(outer_front)
-    i, j = np.divmod(io, ny)
-    lab_f = lab.ravel()
-    best = np.zeros(io.size, lab.dtype)
-    for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1)):
-        k = lab_f[((i + di) % nx) * ny + (j + dj) % ny]
-        best = np.where(sig[k] > sig[best], k, best)
-    ii = np.flatnonzero(inner_front)
-    return ({"cells": io, "sigma": sig[best]}, {"cells": ii, "sigma": sig[lab_f[ii]]})
-
-
-def smooth_along_front(F: np.ndarray, front: np.ndarray, sigma,
-                       weights: np.ndarray | None = None, normal=None) -> np.ndarray:
-    """Gaussian average of F over the front cells only (σ in cells).
-
-    On a pixelated curved front the per-cell layer work scatters by ±30 % around the local
-    release rate (measured on a JKR disc: the layer means bracket the analytic G, the cells
-    do not); averaging along the front removes the staircase noise.  A straight grid-aligned
-    front is unchanged (all its cells carry the same value per edge).  ``sigma``: a number,
-    or per-cell values from :func:`patch_sigmas` (each group of front cells with the same σ
-    is averaged over itself only).  With the front's unit ``normal`` the average runs along
-    the front itself (:func:`_smooth_on_front_graph`: never across a gap, a neck or to another
-    patch); without it, a Gaussian over the grid restricted to front cells.
-    """
-    if isinstance(sigma, dict):
-        out = np.full(F.shape, np.nan)
-        for s_ in np.unique(sigma["sigma"]):
-            sel = np.zeros(F.shape, bool)
-            sel.ravel()[sigma["cells"][sigma["sigma"] == s_]] = True
-            part = smooth_along_front(F, front & sel, float(s_), weights, normal)
-            out[sel] = part[sel]
-        return out
-    if sigma <= 0:
-        return F
-    ok = front & np.isfinite(F)
-    if normal is not None:
-        return _smooth_on_front_graph(F, ok, sigma, weights, normal)
-    wt = np.where(ok, 1.0 if weights is None else weights, 0.0)
-    num = np.where(ok, F, 0.0)
-    num *= wt
-    ndimage.gaussian_filter(num, sigma, mode="wrap", output=num)  # in place: two N² arrays
-    ndimage.gaussian_filter(wt, sigma, mode="wrap", output=wt)
-    sel = ok & (wt > 0)
-    num[sel] /= wt[sel]
-    num[~sel] = np.nan
-    return num
-
-
-def _smooth_on_front_graph(F, ok, sigma: float, weights, normal) -> np.ndarray:
-    """Weighted average of F along the front graph: the front cells ``ok`` joined to their
-    8-neighbours on the front whose normals agree (n_i·n_j > 0, so the two sides of a neck or
-    of a narrow gap stay apart); the kernel is the lazy walk ½(I + D⁻¹ Adj) applied 2σ²
-    times, a Gaussian of σ cells along a straight front (variance ½ cell² a step).  A ratio
-    of sums: Σ K w F / Σ K w."""
-    from scipy import sparse
-
-    shape = F.shape
-    idx = np.flatnonzero(ok)
-    n = idx.size
-    pos = np.full(F.size, -1, np.int64)
-    pos[idx] = np.arange(n)
-    i, j = np.divmod(idx, shape[1])
-    nx_, ny_ = normal[0].ravel()[idx], normal[1].ravel()[idx]
-    rows, cols = [], []
-    for di, dj in ((1, 0), (0, 1), (1, 1), (1, -1)):  # each undirected pair once
-        k = pos[((i + di) % shape[0]) * shape[1] + (j + dj) % shape[1]]
-        sel = k >= 0
-        sel[sel] = nx_[sel] * nx_[k[sel]] + ny_[sel] * ny_[k[sel]] > 0
-        rows.append(np.flatnonzero(sel))
-        cols.append(k[sel])
-    r_, c_ = np.concatenate(rows), np.concatenate(cols)
-    adj = sparse.coo_matrix((np.ones(r_.size), (r_, c_)), shape=(n, n)).tocsr()
-    adj = (adj + adj.T).tocsr()
-    deg = np.asarray(adj.sum(axis=1)).ravel()
-    # row-stochastic: each step is a mean, so staircase corners of higher degree gain no
-    # weight (an unnormalised walk biased a JKR disc's balance by 5 % near pull-off)
-    step = (sparse.diags(0.5 / np.maximum(deg, 1.0)) @ adj
-            + sparse.diags(np.where(deg > 0, 0.5, 1.0))).tocsr()
-    w = np.ones(n) if weights is None else weights.ravel()[idx].astype(float)
-    num, den = w * F.ravel()[idx], w.copy()
-    for _ in range(int(round(2 * sigma**2))):
-        num, den = step @ num, step @ den
-    out = np.full(shape, np.nan)
-    good = den > 0
-    out.ravel()[idx[good]] = num[good] / den[good]
-    return out

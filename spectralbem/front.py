@@ -44,7 +44,8 @@ def at_front(tests, offset_out, base: dict, a0: float) -> dict:
     """Integrated quantities of the state whose edge is the balanced sub-cell front: each
     colour's part of the front moves by its length-weighted mean outward offset toward the
     state with its closing band closed, and by its mean inward offset toward the state with
-    its opening band opened (both at the same Δ), to first order in offset/a0.  ``base``:
+    its opening band opened (both at the same Δ), to first order in offset/a0: by the share
+    Σ s ds / (band area) of the band the sub-cell front covers.  ``base``:
     the mask state's values (names of the tests' observables, e.g. ``mean_pressure``);
     ``offset_out``: nan on front cells that must not move (unresolved patches)."""
     b = tests.bands
@@ -61,7 +62,9 @@ def at_front(tests, offset_out, base: dict, a0: float) -> dict:
         for test, part in ((tests.closing, np.maximum(s, 0.0)),
                            (tests.opening, np.maximum(-s, 0.0))):
             if ci in test:
-                frac = float(np.sum(part[sel] * ds[sel])) / (a0 * L)
+                # the share of the band's area (a0 L on an axis-aligned front, less on
+                # oblique ones: criterion.band_widths) that the sub-cell front covers
+                frac = float(np.sum(part[sel] * ds[sel])) / (test[ci].area or a0 * L)
                 for k in base:
                     out[k] += frac * (test[ci].observables[k] - base[k])
     return out

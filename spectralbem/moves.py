@@ -39,18 +39,33 @@ def _neighbour_mean(field_: np.ndarray, where: np.ndarray, at: np.ndarray) -> np
         return np.where(c > 0, s / c, np.nan)
 
 
-def offsets(F_close, F_open, outer, inner, a0, sharp=False):
+def offsets(F_close, F_open, outer, inner, a0, sharp=False, widths=None):
     """Sub-cell offsets of the balanced edge on the outer front cells (closing test there,
     opening tests of the neighbouring inner cells) and on the inner front cells (the other
     way round); nan elsewhere.  ``sharp``: the sharp-crack edge of an elastic scene
-    (front.sharp_crack_offset), else the seed's edge (front.sub_cell_offset)."""
+    (front.sharp_crack_offset), else the seed's edge (front.sub_cell_offset).  ``widths``:
+    (outer, inner) effective band widths (criterion.band_widths): the band means are
+    interpolated over the mean of the two bands' widths (a0 where none is known)."""
     offset = sharp_crack_offset if sharp else sub_cell_offset
     s_out = np.full(F_close.shape, np.nan)
     s_in = np.full(F_close.shape, np.nan)
     io, ii = np.flatnonzero(outer), np.flatnonzero(inner)
-    s_out.ravel()[io] = offset(F_close.ravel()[io], _neighbour_mean(F_open, inner, io), a0)
-    s_in.ravel()[ii] = offset(_neighbour_mean(F_close, outer, ii), F_open.ravel()[ii], a0)
+    w_out = w_in = a0
+    if widths is not None:
+        wo, wi = widths
+        w_out = _mean_width(wo.ravel()[io], _neighbour_mean(wi, inner, io), a0)
+        w_in = _mean_width(wi.ravel()[ii], _neighbour_mean(wo, outer, ii), a0)
+    s_out.ravel()[io] = offset(F_close.ravel()[io], _neighbour_mean(F_open, inner, io), w_out)
+    s_in.ravel()[ii] = offset(_neighbour_mean(F_close, outer, ii), F_open.ravel()[ii], w_in)
     return s_out, s_in
+
+
+def _mean_width(own, other, a0):
+    """The mean of a front cell's band width and its neighbours' (a0 where neither is
+    known, the known one where one is)."""
+    w = np.where(np.isfinite(own) & np.isfinite(other), 0.5 * (own + other),
+                 np.where(np.isfinite(own), own, other))
+    return np.where(np.isfinite(w), w, a0)
 
 
 def moves(tests, mask, s_out, s_in, w, pinned, hmin, wide=None, tol=0.0):

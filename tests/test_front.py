@@ -107,3 +107,75 @@ def test_load_correction_secant_lands_on_the_fixed_point_of_a_linear_map(a, r, c
     d1 = next_correction(c0, a + slow * c0, None)
     if d1 != c0:
         assert next_correction(d1, a + slow * d1, (c0, a + slow * c0)) == a + slow * d1
+
+
+def _widths(mask, a0_cells):
+    """The effective band widths of front_tests on ``mask`` (elastic, no load: the band
+    areas do not depend on the fields), in cells."""
+    from spectralbem.criterion import front_tests
+    from spectralbem.materials import Elastic
+    from spectralbem.spectral import Cell, SpectralOperator
+
+    n = mask.shape[0]
+    op = SpectralOperator(Cell(1.0, 1.0, n, n), Elastic(1.0, 0.0))
+    h = 1.0 / n
+    t = front_tests(op, np.zeros(mask.shape), mask, np.zeros(mask.shape), 1.0, a0_cells * h)
+    b = t.bands
+    return t.width_out[b.outer_front] / h, t.width_in[b.inner_front] / h
+
+
+@pytest.mark.parametrize("a0_cells", [1.0, 2.0, 2.5])
+def test_band_width_of_an_axis_aligned_front_is_a0(a0_cells):
+    """A straight grid-aligned front: each front cell's band is a0 wide (the whole layers
+    of band_weights interpolated), to rounding."""
+    mask = np.zeros((64, 64), bool)
+    mask[20:40] = True
+    wo, wi = _widths(mask, a0_cells)
+    assert np.allclose(wo, a0_cells, rtol=1e-9) and np.allclose(wi, a0_cells, rtol=1e-9)
+
+
+def test_band_width_of_a_diagonal_front_counts_its_diagonal_layers():
+    """A 45° digital front, a0 = 2 h: the band holds the cells within 2 h of the other
+    side's centres, two diagonal layers of h/√2 each, √2 h of width (not a0): the width the
+    sub-cell edge interpolates over (moves.offsets)."""
+    i, j = np.indices((64, 64))
+    mask = (i + j) % 64 < 32
+    wo, wi = _widths(mask, 2.0)
+    assert np.allclose(wo, np.sqrt(2.0), rtol=1e-6) and np.allclose(wi, np.sqrt(2.0),
+                                                                     rtol=1e-6)
+
+
+def test_estimated_jkr_edge_does_not_follow_the_mask():
+    """Elastic JKR disc (256², a0 = 2 cells) at the JKR penetration of zero load, masks
+    r < a_JKR + k h for k = −1 … 1: the radius of the area inside the estimated sub-cell
+    front (mask area + Σ s ds) is the same for every mask within 0.05 h (measured spread
+    0.03 h).  With a0 in place of the bands' actual widths it falls by 0.12 h per cell of
+    mask radius (0.2 h over the range; measured): the mask edge over-shot its balanced
+    edge, so cells near a half cell flipped back and forth."""
+    from spectralbem import reference as ref
+    from spectralbem.criterion import front_cells, front_tests
+    from spectralbem.front import front_length_weights
+    from spectralbem.masked import solve_masked
+    from spectralbem.moves import offsets
+    from spectralbem.validate import W_JKR, jkr_cell
+
+    cell, op, h, r, w = jkr_cell(256, W_JKR)
+    aJ = ref.jkr_radius(0.0, 1.0, 1.0, w)
+    wv = h - h.max() + ref.jkr_penetration(aJ, 1.0, 1.0, w)
+    a0, hx = 2 * cell.hx, cell.hx
+    est = {True: [], False: []}
+    for k in (-1.0, -0.5, 0.0, 0.5, 1.0):
+        mask = r < aJ + k * hx
+        p = solve_masked(op, mask, wv, rtol=1e-10).field
+        t = front_tests(op, wv, mask, p, w, a0)
+        outer, inner = front_cells(mask)
+        ds = front_length_weights(t.bands.normal, hx, hx)
+        for use in est:
+            so, _ = offsets(t.F_close, t.F_open, outer, inner, a0, True,
+                            (t.width_out, t.width_in) if use else None)
+            s = np.clip(np.where(outer & np.isfinite(so), so, 0.0), -a0, a0)
+            est[use].append(np.sqrt((mask.sum() * cell.cell_area + np.sum(s * ds)) / np.pi))
+    spread = {k: (max(v) - min(v)) / hx for k, v in est.items()}
+    assert spread[True] < 0.05, spread
+    assert spread[False] > 0.15, spread  # the defect the widths remove
+    assert abs(np.mean(est[True]) / aJ - 1) < 0.01

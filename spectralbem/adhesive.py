@@ -46,6 +46,7 @@ from .masked import TRUE_RESIDUAL_MARGIN, solve_masked, solve_packed
 from .moves import (
     OSCILLATION_FLIPS,
     PIN_RELEASES,
+    RELEASE_SLACK,
     Oscillation,
     blocked,
     crack_tips,
@@ -53,6 +54,7 @@ from .moves import (
     moves,
     next_correction,
     offsets,
+    overloaded_pins,
     predictor_moves,
     release_out_of_bounds,
     stale_pins,
@@ -222,6 +224,7 @@ class _FrontIteration:
         self.opened = np.zeros(cell.shape, bool)  # cells the criterion opened in this solve
         self.last_change = np.zeros(cell.shape, bool)
         self.flaw_tried = False
+        self.stale = 0  # pinned cells that would open but may not be released again
         self.pinned = np.zeros(cell.shape, bool)  # opened, then closed by non-penetration
         self.released = np.zeros(cell.shape, np.int8)  # times each cell's pin was released
         self.solves = 0
@@ -371,11 +374,13 @@ class _FrontIteration:
                               (tests.width_out, tests.width_in)
                               if tests.width_out is not None else None)
         pinned = self.pinned
+        stale = None
         if self.criterion != "predictor" and self.p.mean() > 0 and pinned.any():
-            free = stale_pins(tests, mask, s_out, s_in, w, pinned, hmin)
-            free &= self.released < PIN_RELEASES
+            stale = stale_pins(tests, mask, s_out, s_in, w, pinned, hmin)
+            free = stale & (self.released < PIN_RELEASES)
             self.released += free
             pinned &= ~free  # these move with the balance from now on
+            stale &= ~free  # already released once: they stay, as lattice binds
         blk = blocked(tests, w)
         held = self.held = pinned | blk
         # under a tensile load, pinned cells that could open now and whose balance lies
@@ -387,6 +392,8 @@ class _FrontIteration:
                             self.front_tol)
         cell = op.cell
         res_out, res_in = resolved_front(mask, outer, inner, a0, (cell.hx, cell.hy))
+        self.stale = overloaded_pins(stale, self.p, res_in & ~held, np.sqrt(
+            (1.0 + RELEASE_SLACK) * op.material.beta))
         bracket = bracketed(tests, add, remove, self.last_change)
         # a bracketed edge lies inside its flipping cell: at that cell's centre ± h/2
         s_out = np.where(bracket, np.clip(s_out, -0.5 * hmin, 0.5 * hmin), s_out)
@@ -458,10 +465,19 @@ class _FrontIteration:
 
     def _converged(self, new_corr) -> None:
         front_tol, rmax = self.front_tol, self.rmax
-        self.converged = status_ok = rmax <= front_tol
+        self.converged = status_ok = rmax <= front_tol and not self.stale
         self.status = "partial" if status_ok else "not_converged"
         self.message = (f"converged: every resolved front cell balanced within "
                         f"{front_tol:g} cells (largest residual {rmax:.3f})")
+        if self.stale and rmax <= front_tol:
+            self.message = (f"{self.stale} pinned cells would open (opening leaves a gap and "
+                            f"the balance opens them; their pin was released {PIN_RELEASES} "
+                            f"time(s) already) with more than √((1 + {RELEASE_SLACK:g}) β) "
+                            f"times the tension of every free edge (a release rate beyond "
+                            f"the glassy bound): the state is held by its pins, not "
+                            f"verified; "
+                            f"every other resolved front cell balanced within {front_tol:g} "
+                            f"cells (largest residual {rmax:.3f})")
         if self.criterion == "predictor":  # one exact evaluation, no load correction
             self.message = (f"predictor criterion; exact tests of the final mask: "
                             f"{100 * self.frac:.1f} % of the front balanced within "

@@ -63,7 +63,7 @@ def at_front(tests, offset_out, base: dict, a0: float) -> dict:
                            (tests.opening, np.maximum(-s, 0.0))):
             if ci in test:
                 # the share of the band's area (a0 L on an axis-aligned front, less on
-                # oblique ones: criterion.band_widths) that the sub-cell front covers
+                # oblique ones: along_front.band_widths) that the sub-cell front covers
                 frac = float(np.sum(part[sel] * ds[sel])) / (test[ci].area or a0 * L)
                 for k in base:
                     out[k] += frac * (test[ci].observables[k] - base[k])

@@ -10,7 +10,7 @@ import numpy as np
 
 from .front import sharp_crack_offset, sub_cell_offset, touching
 
-__all__ = ["offsets", "moves", "stale_pins", "held_offsets", "crack_tips",
+__all__ = ["offsets", "moves", "stale_pins", "overloaded_pins", "held_offsets", "crack_tips",
            "release_out_of_bounds", "unverified_pins", "blocked", "predictor_moves",
            "next_correction", "Oscillation", "PIN_RELEASES", "RELEASE_SLACK",
            "OSCILLATION_FLIPS", "OSCILLATION_RUN"]
@@ -44,7 +44,7 @@ def offsets(F_close, F_open, outer, inner, a0, sharp=False, widths=None):
     opening tests of the neighbouring inner cells) and on the inner front cells (the other
     way round); nan elsewhere.  ``sharp``: the sharp-crack edge of an elastic scene
     (front.sharp_crack_offset), else the seed's edge (front.sub_cell_offset).  ``widths``:
-    (outer, inner) effective band widths (criterion.band_widths): the band means are
+    (outer, inner) effective band widths (along_front.band_widths): the band means are
     interpolated over the mean of the two bands' widths (a0 where none is known)."""
     offset = sharp_crack_offset if sharp else sub_cell_offset
     s_out = np.full(F_close.shape, np.nan)
@@ -112,6 +112,25 @@ def stale_pins(tests, mask, s_out, s_in, w, pinned, hmin):
         return pinned
     _, remove = moves(tests, mask, s_out, s_in, w, np.zeros_like(pinned), hmin)
     return remove & pinned
+
+
+def overloaded_pins(stale, p, free_edge, factor: float = 1.0) -> int:
+    """How many ``stale`` pins (pinned cells that would open now, their pin already
+    released: :func:`stale_pins`) carry more than ``factor`` times the tension of the most
+    tensile free edge cell of the front (``free_edge``: the resolved inner front cells not
+    held by contact).  A pin that flips with Δ (opened, it interpenetrates at the next Δ;
+    closed, the balance opens it) holds an edge inside its cell, a lattice bind, and carries
+    the tension of a balanced edge.  The tension of an edge cell grows with the stress
+    intensity K and G with K², so a pin at ``factor`` times the tension of a balanced edge
+    holds about ``factor``² times its G; :func:`solve_adhesive` takes the factor of the
+    bound G ≤ (1 + RELEASE_SLACK) β Δγ, √((1 + RELEASE_SLACK) β).  Measured on the rough
+    viscoelastic case (β = 10, bound 3.9): unloading at 256², 5 stale pins at 1.6× the
+    free edges' tension (kept); at 512², 422 stale pins up to 9.7× (15 beyond 3.9), which
+    carried two thirds of the friction force.  None: no stale pin."""
+    if stale is None or not stale.any():
+        return 0
+    floor = float(p[free_edge].min()) if free_edge.any() else 0.0
+    return int(np.count_nonzero(stale & (p < factor * min(floor, 0.0))))
 
 
 def held_offsets(s_out, s_in, outer, held_in):

@@ -391,3 +391,36 @@ def test_stale_pins(delta, sliver_stale):
     assert (stale & sliver).sum() == (4 if sliver_stale else 0)
     if delta == 1.0:  # the strip's edges are held by non-penetration, not by the balance
         assert blocked(ft, w)[pinned & strip].all() and np.all(s_in[pinned & strip] < 0)
+
+
+def test_a_stale_pin_beyond_every_free_edge_leaves_the_state_unverified():
+    """overloaded_pins: the sliver of test_stale_pins at Δ = 0.3 (stale pins at p ≈ −6 to
+    −12) against the strip's free edges (p ≥ −0.9): every stale pin carries more than the
+    factor times the most tensile free edge's tension, so a state held by them is not
+    verified (solve_adhesive reports ``not_converged``, the factor √((1 + RELEASE_SLACK) β));
+    a stale pin within it is a lattice bind (counted 0); no stale pin counts 0."""
+    from spectralbem.criterion import front_cells, front_tests
+    from spectralbem.masked import solve_masked
+    from spectralbem.moves import offsets, overloaded_pins, stale_pins
+
+    cell = Cell(2 * np.pi, 2 * np.pi / 512 * 2, 512, 2)
+    h = sinusoid(cell, 1.0)
+    x = np.repeat(((cell.x + np.pi) % (2 * np.pi) - np.pi)[:, None], 2, axis=1)
+    strip, sliver = np.abs(x) < 0.6, (x > 2.0) & (x < 2.0 + 2.5 * cell.hx)
+    mask = strip | sliver
+    w = h - h.max() + 0.3
+    op = SpectralOperator(cell, Elastic(1.0, 0.0))
+    p = solve_masked(op, mask, w, rtol=1e-12).field
+    ft = front_tests(op, w, mask, p, np.pi * GAMMA, cell.hx, rtol=1e-12)
+    outer, inner = front_cells(mask)
+    s_out, s_in = offsets(ft.F_close, ft.F_open, outer, inner, cell.hx, True)
+    stale = stale_pins(ft, mask, s_out, s_in, w, inner & sliver, cell.hx)
+    free_edge = inner & strip
+    assert stale.sum() == 4 and p[stale].max() < p[free_edge].min()
+    assert overloaded_pins(stale, p, free_edge) == 4
+    # the pins carry 6.7-13× the free edges' tension: all beyond 2×, none beyond 20×
+    assert overloaded_pins(stale, p, free_edge, factor=2.0) == 4
+    assert overloaded_pins(stale, p, free_edge, factor=20.0) == 0
+    assert overloaded_pins(stale, np.where(stale, p[free_edge].min(), p), free_edge) == 0
+    assert overloaded_pins(None, p, free_edge) == 0
+    assert overloaded_pins(np.zeros_like(stale), p, free_edge) == 0

@@ -40,10 +40,10 @@ def band_widths(b, area_out, area_in, normal, sigma: float, a0: float):
     out = []
     for area, front in ((area_out, b.outer_front), (area_in, b.inner_front)):
         ok = front & (area > 0)
-        num = smooth_along_front(np.where(ok, area, np.nan), ok, sig, None, normal)
-        den = smooth_along_front(np.where(ok, ds, np.nan), ok, sig, None, normal)
+        # Σ K area / Σ K ds: the ratio area/ds averaged with the weights ds
         with np.errstate(invalid="ignore", divide="ignore"):
-            out.append(np.clip(num / den, lo * a0, hi * a0))
+            ratio = np.where(ok, area / ds, np.nan)
+        out.append(np.clip(smooth_along_front(ratio, ok, sig, ds, normal), lo * a0, hi * a0))
     return out
 
 

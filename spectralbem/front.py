@@ -188,8 +188,8 @@ def patch_labels(mask: np.ndarray, a0: float, spacing):
         return lab, np.zeros(1, bool)
     hmin = min(spacing)
     d_in, _, _ = _wrap_edt(mask, spacing, int(np.ceil(a0 / hmin)) + 2)
-    deepest = np.asarray(ndimage.maximum(d_in, lab, np.arange(n + 1)))
-    ok = deepest >= a0 * (1 - 1e-9)
+    ok = np.zeros(n + 1, bool)
+    ok[lab[d_in >= a0 * (1 - 1e-9)]] = True  # the labels of the cells a0 deep or more
     ok[0] = False
     return lab, ok
 

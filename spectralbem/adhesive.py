@@ -154,8 +154,9 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     command line's progress bar).
 
     Status: ``partial`` only when every resolved front cell is balanced within ``front_tol``
-    cells (front.balance_residual); ``not_converged`` otherwise (a cycle, an oscillation or
-    the iteration limit), with the balanced fraction of the front in the result.
+    cells (front.balance_residual) and no pin holds a crack tip beyond the glassy bound
+    (moves.overloaded_pins); ``not_converged`` otherwise (a cycle, an oscillation, the
+    iteration limit or such pins), with the balanced fraction of the front in the result.
     """
     cell = op.cell
     h = check_heights(heights, cell)

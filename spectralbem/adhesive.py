@@ -137,8 +137,8 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     finish) or 'predictor' (the predictor alone; the exact tests are evaluated once on the
     final mask, for the outputs — cheaper, less accurate: docs/performance.md).
     ``front_smoothing``: σ of the average along the front in units of a0
-    (criterion.smooth_along_front), raised to ``smoothing_per_radius`` times the front
-    radius 2A/P of large patches (criterion.patch_sigmas; 0 keeps σ fixed).
+    (along_front.smooth_along_front), raised to ``smoothing_per_radius`` times the front
+    radius 2A/P of large patches (along_front.patch_sigmas; 0 keeps σ fixed).
 
     ``flaw_radius``: radius (m) of the flaw through which a full contact may open (default
     a0; module docstring).  In an elastic scene it decides by Griffith's condition whether

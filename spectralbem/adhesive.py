@@ -56,6 +56,7 @@ from .moves import (
     offsets,
     overloaded_pins,
     predictor_moves,
+    release_bound,
     release_out_of_bounds,
     stale_pins,
     unverified_pins,
@@ -372,8 +373,7 @@ class _FrontIteration:
             self.message = "layer test: " + tests.message
             return None
         s_out, s_in = offsets(tests.F_close, tests.F_open, outer, inner, a0, self.shift > 0,
-                              (tests.width_out, tests.width_in)
-                              if tests.width_out is not None else None)
+                              (tests.width_out, tests.width_in))
         pinned = self.pinned
         stale = None
         if self.criterion != "predictor" and self.p.mean() > 0 and pinned.any():
@@ -393,8 +393,8 @@ class _FrontIteration:
                             self.front_tol)
         cell = op.cell
         res_out, res_in = resolved_front(mask, outer, inner, a0, (cell.hx, cell.hy))
-        self.stale = overloaded_pins(stale, self.p, res_in & ~held, np.sqrt(
-            (1.0 + RELEASE_SLACK) * op.material.beta))
+        self.stale = overloaded_pins(stale, self.p, res_in & ~held,
+                                     np.sqrt(release_bound(op)))
         bracket = bracketed(tests, add, remove, self.last_change)
         # a bracketed edge lies inside its flipping cell: at that cell's centre ± h/2
         s_out = np.where(bracket, np.clip(s_out, -0.5 * hmin, 0.5 * hmin), s_out)

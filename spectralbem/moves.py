@@ -11,8 +11,8 @@ import numpy as np
 from .front import sharp_crack_offset, sub_cell_offset, touching
 
 __all__ = ["offsets", "moves", "stale_pins", "overloaded_pins", "held_offsets", "crack_tips",
-           "release_out_of_bounds", "unverified_pins", "blocked", "predictor_moves",
-           "next_correction", "Oscillation", "PIN_RELEASES", "RELEASE_SLACK",
+           "release_out_of_bounds", "release_bound", "unverified_pins", "blocked",
+           "predictor_moves", "next_correction", "Oscillation", "PIN_RELEASES", "RELEASE_SLACK",
            "OSCILLATION_FLIPS", "OSCILLATION_RUN"]
 
 #: a cell that has changed state this many times in one solve counts as oscillating
@@ -44,14 +44,15 @@ def offsets(F_close, F_open, outer, inner, a0, sharp=False, widths=None):
     opening tests of the neighbouring inner cells) and on the inner front cells (the other
     way round); nan elsewhere.  ``sharp``: the sharp-crack edge of an elastic scene
     (front.sharp_crack_offset), else the seed's edge (front.sub_cell_offset).  ``widths``:
-    (outer, inner) effective band widths (along_front.band_widths): the band means are
-    interpolated over the mean of the two bands' widths (a0 where none is known)."""
+    (outer, inner) effective band widths (along_front.band_widths; None, or a pair of None
+    from the predictor: a0): the band means are interpolated over the mean of the two bands'
+    widths (a0 where none is known)."""
     offset = sharp_crack_offset if sharp else sub_cell_offset
     s_out = np.full(F_close.shape, np.nan)
     s_in = np.full(F_close.shape, np.nan)
     io, ii = np.flatnonzero(outer), np.flatnonzero(inner)
     w_out = w_in = a0
-    if widths is not None:
+    if widths is not None and widths[0] is not None:
         wo, wi = widths
         w_out = _mean_width(wo.ravel()[io], _neighbour_mean(wi, inner, io), a0)
         w_in = _mean_width(wi.ravel()[ii], _neighbour_mean(wo, outer, ii), a0)
@@ -123,7 +124,7 @@ def overloaded_pins(stale, p, free_edge, factor: float = 1.0) -> int:
     the tension of a balanced edge.  The tension of an edge cell grows with the stress
     intensity K and G with K², so a pin at ``factor`` times the tension of a balanced edge
     holds about ``factor``² times its G; :func:`solve_adhesive` takes the factor of the
-    bound G ≤ (1 + RELEASE_SLACK) β Δγ, √((1 + RELEASE_SLACK) β).  Measured on the rough
+    bound G ≤ (1 + RELEASE_SLACK) β Δγ, √(:func:`release_bound`).  Measured on the rough
     viscoelastic case (β = 10, bound 3.9): unloading at 256², 5 stale pins at 1.6× the
     free edges' tension (kept); at 512², 422 stale pins up to 9.7× (15 beyond 3.9), which
     carried two thirds of the friction force.  None: no stale pin."""
@@ -151,6 +152,12 @@ def held_offsets(s_out, s_in, outer, held_in):
 RELEASE_SLACK = 0.5
 
 
+def release_bound(op) -> float:
+    """The largest front-averaged release rate a balanced edge may show, in units of Δγ:
+    (1 + RELEASE_SLACK) β with β = E∞/E0 (1 in an elastic scene)."""
+    return (1.0 + RELEASE_SLACK) * op.material.beta
+
+
 def crack_tips(res_out, held, outer):
     """The resolved outer front cells that are crack tips: not next to an inner front cell
     held by contact (a compressive, adhesiveless edge has no stress singularity)."""
@@ -173,7 +180,7 @@ def release_out_of_bounds(op, tests, tip, dgamma) -> str:
     _, G1, G2 = release_rates(op, tests, tip, dgamma)
     fo = {"G1": G1, "G2": G2}
     beta = op.material.beta
-    hi = beta * (1.0 + RELEASE_SLACK)
+    hi = release_bound(op)
     dg = float(np.mean(dgamma))
     out = [f"{k} = {fo[k] / dg:.3g} Δγ" for k in ("G1", "G2")
            if np.isfinite(fo[k]) and fo[k] / dg > hi]

@@ -79,8 +79,8 @@ def sinusoid_point(zeta: float, m: int, tol: float, criterion: str = "exact") ->
 
 def jkr_point(n: int, sigma: float | None, tol: float, pulloff: bool = True,
               criterion: str = "exact") -> dict:
-    """``sigma`` None: the default front smoothing (1.5 a0, ≥ 0.23 of the patch radius);
-    a number: that σ fixed (in units of a0, here one cell)."""
+    """``sigma`` None: the default front smoothing (½ a0 in this elastic scene, ≥ 0.23 of
+    the patch radius); a number: that σ fixed (in units of a0, here one cell)."""
     cell, op, h, r, w = jkr_cell(n, W_JKR)
     aJ = ref.jkr_radius(0.0, 1.0, 1.0, w)
     op.apply(h)  # plans the transforms

@@ -29,8 +29,8 @@ from . import coarse
 from .contact import friction, full_contact, sliding_direction
 from .conventions import control
 from .criterion import (
-    FRONT_SMOOTHING,
     SMOOTHING_PER_RADIUS,
+    default_smoothing,
     front_cells,
     front_tests,
     predictor_tests,
@@ -119,7 +119,7 @@ def _check_inputs(cell, penetration, mean_pressure, dgamma, a0, criterion, front
 def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float, *,
                    penetration: float | None = None, mean_pressure: float | None = None,
                    mask0: np.ndarray | None = None, max_outer: int = 500,
-                   front_smoothing: float = FRONT_SMOOTHING,
+                   front_smoothing: float | None = None,
                    smoothing_per_radius: float = SMOOTHING_PER_RADIUS,
                    rtol: float = 1e-10, observables: dict | None = None,
                    criterion: str = "exact", front_tol: float = FRONT_TOL,
@@ -138,7 +138,8 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     finish) or 'predictor' (the predictor alone; the exact tests are evaluated once on the
     final mask, for the outputs — cheaper, less accurate: docs/performance.md).
     ``front_smoothing``: σ of the average along the front in units of a0
-    (along_front.smooth_along_front), raised to ``smoothing_per_radius`` times the front
+    (along_front.smooth_along_front; None: 1.5 in a viscoelastic scene, 0.5 in an elastic
+    one, criterion.default_smoothing), raised to ``smoothing_per_radius`` times the front
     radius 2A/P of large patches (along_front.patch_sigmas; 0 keeps σ fixed).
 
     ``flaw_radius``: radius (m) of the flaw through which a full contact may open (default
@@ -162,6 +163,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     cell = op.cell
     h = check_heights(heights, cell)
     _check_inputs(cell, penetration, mean_pressure, dgamma, a0, criterion, front_tol)
+    front_smoothing = default_smoothing(front_smoothing, op.viscoelastic)
     if coarse_start and coarse.eligible(cell, a0):
         mask0 = _coarse_start(op, h, dgamma, a0, penetration, mean_pressure, mask0, dict(
             max_outer=max_outer, front_smoothing=front_smoothing,

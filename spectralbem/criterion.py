@@ -38,8 +38,20 @@ _CROSS = ndimage.generate_binary_structure(2, 1)
 
 
 #: σ of the average of the balance along the front, in units of a0 (docs/theory.md,
-#: "Averaging along the front", where the measurements of σ live)
+#: "Averaging along the front", where the measurements of σ live): viscoelastic scenes,
+#: where a0 and σ are physical lengths
 FRONT_SMOOTHING = 1.5
+
+#: the same in elastic scenes, where both are numerical and the answer is the local balance
+#: (σ → 0): σ = ½ a0 gives the area of σ = 0 to 0.1 % in half its front iterations
+FRONT_SMOOTHING_ELASTIC = 0.5
+
+
+def default_smoothing(front_smoothing: float | None, viscoelastic: bool) -> float:
+    """``front_smoothing`` as given, or the default of the scene's kind (None)."""
+    if front_smoothing is not None:
+        return float(front_smoothing)
+    return FRONT_SMOOTHING if viscoelastic else FRONT_SMOOTHING_ELASTIC
 
 #: σ = max(FRONT_SMOOTHING a0, SMOOTHING_PER_RADIUS r) for a patch of front radius r
 #: (:func:`patch_sigmas`; measured in docs/performance.md, the adhesive sphere); 0: σ fixed
@@ -310,7 +322,7 @@ class _Tester:
 
 def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.ndarray,
                 dgamma, a0: float, *, rtol: float = 1e-10, vhat=(1.0, 0.0),
-                observables: dict | None = None, front_smoothing: float = FRONT_SMOOTHING,
+                observables: dict | None = None, front_smoothing: float | None = None,
                 smoothing_per_radius: float = SMOOTHING_PER_RADIUS,
                 u: np.ndarray | None = None) -> FrontTest:
     """Closing and opening tests of every front cell at fixed Δ (Eqs. 3, 8-10 on bands).
@@ -321,7 +333,8 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     ``mask``, ``u`` its displacement C p if the caller has it.  ``observables``: name ->
     field f; the sums Σ p f of each test state are recorded (in ``closing``/``opening``
     entries' fifth item) so that integrated quantities can be interpolated to the sub-cell
-    front.  ``front_smoothing``: σ of the average along the front in units of a0, raised to
+    front.  ``front_smoothing``: σ of the average along the front in units of a0 (None: the
+    default of the scene's kind, :func:`default_smoothing`), raised to
     ``smoothing_per_radius`` times the front radius of large patches (:func:`patch_sigmas`).
     """
     cell = op.cell
@@ -395,7 +408,8 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             F_open.ravel()[owners[has]] = acc["dL"][has] / acc["dg"][has] - 1.0
             W_open.ravel()[owners[has]] = acc["dg"][has]
             area_in.ravel()[owners] = acc["area"]
-    sigma = _sigma_cells(front_smoothing, a0, hmin, mask.shape)
+    sigma = _sigma_cells(default_smoothing(front_smoothing, op.viscoelastic), a0, hmin,
+                         mask.shape)
     width_out, width_in = band_widths(b, area_out, area_in, normal, sigma, a0)
     # ratio of sums along the front: each front cell weighs by its band's Δγ·area, so that
     # owners of unequal band patches (staircase corners) do not bias the local balance
@@ -428,7 +442,7 @@ def _mirror(field_: np.ndarray, valid: np.ndarray, cells: np.ndarray, owners: np
 
 def predictor_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.ndarray,
                     dgamma, a0: float, *, u: np.ndarray | None = None,
-                    front_smoothing: float = FRONT_SMOOTHING,
+                    front_smoothing: float | None = None,
                     smoothing_per_radius: float = SMOOTHING_PER_RADIUS) -> FrontTest:
     """The zero-extra-solve predictor of docs/derivations.md §10 (modified VCCT): the closing and
     opening balances of :func:`front_tests` with the post-perturbation fields replaced by the
@@ -437,7 +451,8 @@ def predictor_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np
     p(x_j − a0 n̂); an opening-band cell gets the gap found a0 outside it.  With one layer
     this is ½ t_i g_j a of the inner neighbour.  Error ≈ 4.7 h/a in δL (docs/derivations.md §10):
     use it to bring the front near balance, then the exact tests.  No solves; the energy
-    split (δU, δL_P, G_close) is not available (nan).
+    split (δU, δL_P, G_close) is not available (nan).  ``front_smoothing`` as in
+    :func:`front_tests`.
     """
     cell = op.cell
     area = cell.cell_area
@@ -467,8 +482,9 @@ def predictor_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np
         g_open.ravel()[cells] = g_minus
         dL = -0.5 * area * np.nan_to_num(g_minus) * p.ravel()[cells]
         _balance(dL, cells, own, _dg_area(dg, area, cells), F_open, W_open)
-    F_close, F_open = _front_average(b, F_close, W_close, F_open, W_open,
-                                     _sigma_cells(front_smoothing, a0, hmin, mask.shape),
+    sigma = _sigma_cells(default_smoothing(front_smoothing, op.viscoelastic), a0, hmin,
+                         mask.shape)
+    F_close, F_open = _front_average(b, F_close, W_close, F_open, W_open, sigma,
                                      smoothing_per_radius)
     nan = np.full(mask.shape, np.nan)
     return FrontTest(F_close, F_open, nan, np.zeros(mask.shape), g_open, {}, {},

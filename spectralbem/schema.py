@@ -146,8 +146,9 @@ SECTIONS = {
                         10**5, default=500),
         "threads": _k("integer", "FFT threads", "", 1, 256, default=1),
         "front_smoothing": _k("number", "σ of the Gaussian average of the energy balance "
-                              "along the front, in units of adhesion.a0 (adhesive scenes)",
-                              "a0", 0, 100, default=1.5),
+                              "along the front, in units of adhesion.a0 (adhesive scenes; "
+                              "default 1.5 in viscoelastic scenes, 0.5 in elastic ones)",
+                              "a0", 0, 100, default=None),
         "smoothing_per_radius": _k("number", "σ grows to this fraction of the front "
                                    "radius 2A/P of large contact patches (0: σ fixed)", "", 0, 1,
                                    default=0.23),

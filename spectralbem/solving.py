@@ -303,10 +303,11 @@ def _bar_progress(bar):
 
 def _smoothing(scene) -> dict:
     """The front-smoothing keywords of solve_adhesive: the scene's, else criterion's
-    defaults (the schema's defaults are the same numbers, tested)."""
-    from .criterion import FRONT_SMOOTHING, SMOOTHING_PER_RADIUS
+    defaults (front_smoothing None: that of the scene's kind, criterion.default_smoothing;
+    the schema documents the same numbers, tested)."""
+    from .criterion import SMOOTHING_PER_RADIUS
 
-    return {"front_smoothing": scene.solver.get("front_smoothing", FRONT_SMOOTHING),
+    return {"front_smoothing": scene.solver.get("front_smoothing"),
             "smoothing_per_radius": scene.solver.get("smoothing_per_radius",
                                                      SMOOTHING_PER_RADIUS)}
 

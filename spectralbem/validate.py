@@ -130,9 +130,9 @@ def area_radius(op, res, dgamma) -> float:
 
 
 def smoothing(sigma: float | None) -> dict:
-    """solve_adhesive keywords: None → the default front smoothing (1.5 a0, ≥ 0.23 of the
-    patch's front radius); a number → that σ in units of a0 fixed (no growth with the
-    patch)."""
+    """solve_adhesive keywords: None → the default front smoothing (of the scene's kind,
+    ≥ 0.23 of the patch's front radius); a number → that σ in units of a0 fixed (no growth
+    with the patch)."""
     return {} if sigma is None else {"front_smoothing": sigma, "smoothing_per_radius": 0.0}
 
 
@@ -163,7 +163,7 @@ def jkr_sphere(n: int = 1024, sigma: float | None = None, w: float = W_JKR):
     """Elastic JKR sphere in a periodic cell: contact radius against JKR at zero load and at
     half the pull-off force (tensile), approached from a smaller (loading) and a larger
     (unloading) contact, and the load-control pull-off by bisection (unloading from the
-    zero-load contact).  ``sigma`` None: the default front smoothing (1.5 a0, ≥ 0.23 of the
+    zero-load contact).  ``sigma`` None: the default front smoothing (½ a0, ≥ 0.23 of the
     patch radius); a number: that σ fixed (in units of a0, here one cell)."""
     from . import reference as ref
     from .adhesive import solve_adhesive
@@ -292,7 +292,7 @@ against −μ̄₁D sin 40° = {oblique['mu_lateral'][1]:.5f}.
 ## JKR sphere
 
 Elastic paraboloid R = L = E* = 1 (ν = 0), Δγ = {pull['w']:.4g} (zero-load JKR radius
-0.1 L), {pull['n']}² cell, a0 = one cell, the default front smoothing (σ = max(1.5 a0,
+0.1 L), {pull['n']}² cell, a0 = one cell, the default front smoothing (σ = max(½ a0,
 0.23 r), r = 2A/P the patch's front radius: 15-24 cells here). The radius is √(A/π) of the
 area A inside the balanced sub-cell front (the dataset's `area_fraction`; in this elastic
 scene the sharp-crack edge). Acceptance: radius within 1 % at ≥ 50 cells per radius

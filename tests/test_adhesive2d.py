@@ -233,11 +233,18 @@ def test_elastic_edge_does_not_move_with_the_numerical_a0():
 
 
 def test_front_smoothing_defaults_are_the_solvers():
-    """The scene schema documents the front-smoothing defaults that solve_adhesive uses."""
+    """The scene schema documents the front-smoothing defaults that solve_adhesive uses:
+    σ/a0 by the scene's kind (None), the growth with the patch as a number."""
     from spectralbem import criterion as cr
     from spectralbem.schema import SECTIONS
 
-    assert SECTIONS["solver"]["front_smoothing"].default == cr.FRONT_SMOOTHING
+    key = SECTIONS["solver"]["front_smoothing"]
+    assert key.default is None
+    assert f"default {cr.FRONT_SMOOTHING:g} in viscoelastic" in key.doc
+    assert f"{cr.FRONT_SMOOTHING_ELASTIC:g} in elastic" in key.doc
+    assert cr.default_smoothing(None, True) == cr.FRONT_SMOOTHING
+    assert cr.default_smoothing(None, False) == cr.FRONT_SMOOTHING_ELASTIC
+    assert cr.default_smoothing(0.0, True) == 0.0
     assert SECTIONS["solver"]["smoothing_per_radius"].default == cr.SMOOTHING_PER_RADIUS
 
 
@@ -246,7 +253,8 @@ def test_front_smoothing_is_a_length_in_units_of_a0(monkeypatch, n, a0_cells):
     """solver.front_smoothing is σ/a0: the average along the front spans σ = 1.5 a0 whatever
     the cell (1.5, 3, 6 cells at a0 = 1, 2, 4 cells: the same physical length on a grid
     refined with a0 fixed in metres), capped at half the grid (a0 of 16000 cells on a
-    16-cell grid: σ = 8 cells, not a walk of 10⁹ steps)."""
+    16-cell grid: σ = 8 cells, not a walk of 10⁹ steps); without it, an elastic scene's
+    default ½ a0."""
     from spectralbem import criterion as cr
 
     seen = []
@@ -259,8 +267,10 @@ def test_front_smoothing_is_a_length_in_units_of_a0(monkeypatch, n, a0_cells):
     mask = np.hypot(X - 0.5, Y - 0.5) < 0.3
     w = np.zeros(cell.shape)
     p = np.where(mask, 1.0, 0.0)
-    cr.predictor_tests(op, w, mask, p, 1e-3, a0_cells * cell.hx)
+    cr.predictor_tests(op, w, mask, p, 1e-3, a0_cells * cell.hx, front_smoothing=1.5)
     assert seen and seen[0] == pytest.approx(min(1.5 * a0_cells, n / 2), rel=1e-12)
+    cr.predictor_tests(op, w, mask, p, 1e-3, a0_cells * cell.hx)
+    assert seen[1] == pytest.approx(min(0.5 * a0_cells, n / 2), rel=1e-12)
 
 
 def test_front_smoothing_grows_with_the_patch_and_stays_on_it():

@@ -74,6 +74,24 @@ def test_a0_large_against_the_cut_off_is_named():
                for m in scene_warnings(load_scene(CASES / "rough_load_unload.toml")))
 
 
+def test_a0_of_many_cells_in_an_elastic_scene_is_named():
+    """An elastic scene with a0 of 8 cells and the default smoothing wanders (docs/theory.md):
+    warned; with a0 of 4 cells, a set front_smoothing or a viscoelastic slab it is not."""
+    raw = read_scene_file(CASES / "rough_convergence.toml")
+    raw["material"] = {"kind": "elastic", "E": 1e6, "nu": 0.5}
+
+    def msgs(**over):
+        return [m for m in scene_warnings(load_scene(raw, overrides={
+            "grid.Nx": 256, "grid.Ny": 256, **over}, base_dir=CASES)) if "spans" in m]
+
+    out = msgs(**{"adhesion.a0": 3.125e-05})
+    assert len(out) == 1 and "spans 8 cells in an elastic scene" in out[0]
+    assert msgs(**{"adhesion.a0": 1.5625e-05}) == []
+    assert msgs(**{"adhesion.a0": 3.125e-05, "solver.front_smoothing": 1.5}) == []
+    raw["material"] = read_scene_file(CASES / "rough_convergence.toml")["material"]
+    assert msgs(**{"adhesion.a0": 3.125e-05}) == []
+
+
 def test_small_patch_diameter_is_the_area_weighted_tenth():
     """Discs of radius 3, 6 and 12 cells (areas 9 : 36 : 144): the smallest holds 4.8 % of
     the area, the two smaller 24 %, so the diameter below which a tenth lies is the middle

@@ -29,13 +29,15 @@ SCALARS = {
     "area_fraction": ("1", "contact area fraction",
                       "adhesive: the area inside the balanced sub-cell front"),
     "mu": ("1", "friction coefficient μ",
-           "force opposing v over the normal force, Eq. (19) in 2D"),
+           "force opposing v over the normal force, Eq. (19) in 2D; adhesive viscoelastic: the "
+           "force on the rigid profile at the balanced sub-cell front"),
     "mu_lateral": ("1", "lateral friction coefficient",
                    "lateral force (along z × v) over the normal force"),
     "mu_profile": ("1", "μ from the profile force",
                    "friction coefficient from the rigid-profile force on the mask"),
     "mu_dissipation": ("1", "μ from the dissipation",
-                       "friction coefficient from the spectral dissipation"),
+                       "friction coefficient from the spectral dissipation (Eq. (19) with "
+                       "the spectral derivative of u, on the mask)"),
     "mu_adhesive": ("1", "adhesive friction μ_a", "-∮ G (n·v̂) ds / W, Eq. (23) in 2D"),
     "G1": ("J/m²", "G1 (trailing front)",
            "energy release rate at the trailing (opening) front, Eq. (20)"),

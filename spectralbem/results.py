@@ -17,7 +17,7 @@ from .io import FIELDS, SCALARS, STATUS
 from .io import attrs as _attrs
 
 __all__ = ["grid_dataset", "seed_dataset", "seed_front_outputs", "edges_y_invariant",
-           "quotient"]
+           "quotient", "friction_observables", "front_friction", "profile_friction"]
 
 
 def quotient(num: float, den: float, num_scale: float = 0.0, den_scale: float = 0.0) -> float:
@@ -27,6 +27,45 @@ def quotient(num: float, den: float, num_scale: float = 0.0, den_scale: float = 
     if abs(den) > 1e-9 * den_scale and den != 0.0:
         return num / den
     return 0.0 if abs(num) <= 1e-9 * num_scale else math.copysign(math.inf, num)
+
+
+def friction_observables(op, heights) -> dict:
+    """The fields f whose sums Σ p f an adhesive solve records for each band state
+    (``observables`` of adhesive.solve_adhesive): the unit field (``load``) and the
+    rigid profile's slopes −v̂·∇h (``force``) and −v̂⊥·∇h (``lateral``), v̂⊥ = ẑ × v̂."""
+    from .contact import sliding_direction
+
+    cell = op.cell
+    vhat = sliding_direction(op)
+    vperp = (-vhat[1], vhat[0])
+    return {"load": np.ones(cell.shape), "force": -cell.derivative(heights, vhat),
+            "lateral": -cell.derivative(heights, vperp)}
+
+
+def front_friction(r, obs: dict) -> dict:
+    """Friction (``force``) and lateral coefficients of a partial adhesive state ``r`` at its
+    balanced sub-cell front: the force on the rigid profile, Σ p f with the fields of
+    :func:`friction_observables`, interpolated between the mask's state and its band states
+    like every integrated quantity (front.at_front), over the load likewise (Eq. (19) in 2D:
+    on the contact −v̂·∇u = −v̂·∇h; the profile's slope is smooth where u's spectral
+    derivative at the mask edge is not)."""
+    from . import front
+
+    p = r.pressure
+    at_front = front.at_front(r.tests, r.offset_out,
+                              {k: float(np.sum(p * f)) for k, f in obs.items()}, r.a0)
+    return _friction_quotients(p, obs, at_front)
+
+
+def profile_friction(p, obs: dict) -> dict:
+    """:func:`front_friction` of the pressure ``p`` on its own mask (no front to move)."""
+    return _friction_quotients(p, obs, {k: float(np.sum(p * f)) for k, f in obs.items()})
+
+
+def _friction_quotients(p, obs, sums) -> dict:
+    scale = {k: float(np.sum(np.abs(p * f))) for k, f in obs.items()}
+    return {k: quotient(sums[k], sums["load"], scale[k], scale["load"])
+            for k in ("force", "lateral")}
 
 
 def edges_y_invariant(mask, offset, cell):
@@ -95,10 +134,8 @@ def seed_front_outputs(op, r, dgamma, obs: dict) -> tuple:
     """(l1, l2, scalars) of a partial y-invariant adhesive state ``r`` of the seed scene:
     the edges from the summit with their sub-cell offsets, G1/Δγ and G2/Δγ at the balanced
     edges, and the friction μ/Λ̃ (force, lateral) of the sub-cell front from the observables
-    ``obs`` (name -> field f, Σ p f; ``load`` the unit field)."""
-    from . import front
-
-    cell, p, a0e = op.cell, r.pressure, r.a0
+    ``obs`` (:func:`friction_observables`)."""
+    cell, a0e = op.cell, r.a0
     l1, l2 = edges_y_invariant(r.contact, r.offset_out, cell)
     G = []
     for ci in sorted(r.tests.closing):
@@ -111,14 +148,8 @@ def seed_front_outputs(op, r, dgamma, obs: dict) -> tuple:
         # (x_b − a0) in the seed's definition, at its midpoint when the edge is the
         # sharp-crack one (shift a0/2, elastic scenes)
         G.append(Go + (Gc - Go) * (a0e + s - r.edge_shift) / a0e)
-    out = {}
     # integrated quantities at the sub-cell front (first order in offset/a0)
-    at_front = front.at_front(r.tests, r.offset_out,
-                              {k: float(np.sum(p * f)) for k, f in obs.items()}, a0e)
-    scale = {k: float(np.sum(np.abs(p * f))) for k, f in obs.items()}
-    for k in ("force", "lateral"):
-        out[f"mu_bar_{k}_front"] = quotient(at_front[k], at_front["load"], scale[k],
-                                            scale["load"])
+    out = {f"mu_bar_{k}_front": v for k, v in front_friction(r, obs).items()}
     if r.crack_tips is not None and not r.crack_tips.any():
         G = [0.0]  # every edge held by contact (Γ → 0): no crack tip (front.py)
     if len(G) == 1:

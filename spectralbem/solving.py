@@ -19,7 +19,16 @@ from . import __version__
 from .contact import sliding_direction
 from .io import FIELDS, SCALARS, cf_attributes
 from .io import attrs as _attrs
-from .results import edges_y_invariant, grid_dataset, quotient, seed_dataset, seed_front_outputs
+from .results import (
+    edges_y_invariant,
+    friction_observables,
+    front_friction,
+    grid_dataset,
+    profile_friction,
+    quotient,
+    seed_dataset,
+    seed_front_outputs,
+)
 from .scenes import Scene, _dimensionless_groups
 from .schema import SceneError
 from .spectral import SpectralOperator
@@ -109,10 +118,7 @@ def _solve_seed_grid(scene: Scene, mask0=None, progress=None):
             a = a if np.isfinite(a) else 1.0
             xw = (cell.x + np.pi) % (2 * np.pi) - np.pi
             mask0 = np.repeat((np.abs(xw) < a)[:, None], cell.Ny, axis=1)
-        vhat = sliding_direction(op)
-        vperp = (-vhat[1], vhat[0])
-        obs = {"load": np.ones(cell.shape), "force": -cell.derivative(h, vhat),
-               "lateral": -cell.derivative(h, vperp)}
+        obs = friction_observables(op, h)
         state = r = _grid_state(scene, op, mask0, progress, obs)
         p, mask, delta, status = r.pressure, r.contact, r.penetration, r.status
         out["p_front"] = r.mean_pressure
@@ -226,7 +232,8 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
         # the new load's Δ; unloading: the adhesiveless contact is inside the carried one)
         m_free = _adhesiveless_mask(op, scene)
         mask0 = m_free if mask0 is None else (mask0 | m_free if m_free is not None else mask0)
-        state = r = _grid_state(scene, op, mask0, progress)
+        obs = friction_observables(op, h)
+        state = r = _grid_state(scene, op, mask0, progress, obs)
         p, mask, delta, status = r.pressure, r.contact, r.penetration, r.status
         u = r.displacement
         msg = r.message
@@ -273,6 +280,13 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
     gap = state.gap if p is state.pressure else np.where(
         mask, 0.0, u - (h - float(h.max()) + delta))
     fr = _friction(op, h, p, u, state)
+    if scene.adhesive and op.viscoelastic:
+        # the force on the profile, at the sub-cell front when it balances: −v̂·∇u's
+        # spectral derivative at the mask edge, where the tension is singular, grows with
+        # N (docs/theory.md, outputs); elastic: −Σ p v̂·∇u = 0 exactly (C symmetric)
+        ff = (front_friction(r, obs) if status == "partial" and r.tests is not None
+              else profile_friction(p, obs))
+        fr.update(mu=ff["force"], mu_lateral=ff["lateral"])
     sc.update(mean_pressure=pm, penetration=float(delta),
               area_fraction=float(mask.mean()) if area is None else area, **fr)
     status, msg = _undefined(status, msg, sc)

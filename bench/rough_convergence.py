@@ -10,7 +10,7 @@ balanced fractions and CPU time; then the observed order and a Richardson estima
 error of each N from the three finest grids.
 
 Usage: python bench/rough_convergence.py [--sizes 128 256 512] [--materials elastic sls]
-           [--a0 7.8125e-6] [--sigma 1.5] [--coarse-start]
+           [--a0 7.8125e-6] [--sigma 1.5] [--coarse-start] [--loading-only]
            [--out bench/rough_convergence.json] [--report]
        python bench/rough_convergence.py --scan
 ``--report`` only rewrites docs/rough_convergence.md from the JSON; ``--scan`` runs the
@@ -65,10 +65,14 @@ def _solve(n: int, material: str, a0: float, sigma: float | None, loads=None,
 
 
 def run_one(n: int, material: str, a0: float, sigma: float | None,
-            coarse: bool = False) -> dict:
+            coarse: bool = False, loading_only: bool = False) -> dict:
     """One load path at N², the material's overrides, a0 (m), σ (units of a0, or None),
-    from the adhesiveless start or the coarse grid's front (``coarse``)."""
-    ds, cpu = _solve(n, material, a0, sigma, coarse=coarse)
+    from the adhesiveless start or the coarse grid's front (``coarse``); ``loading_only``:
+    the first state of the path only (1e4 Pa)."""
+    ds, cpu = _solve(n, material, a0, sigma, loads=[1e4] if loading_only else None,
+                     coarse=coarse)
+    if "step" not in ds.dims:
+        ds = ds.expand_dims("step")
     steps = []
     for k in range(ds.sizes["step"]):
         st = ds.isel(step=k)
@@ -80,14 +84,17 @@ def run_one(n: int, material: str, a0: float, sigma: float | None,
                    unresolved_patches=int(st["unresolved_patches"]),
                    message=str(st["solver_message"].values))
         steps.append(row)
-    hyst = steps[2]["area_fraction"] / steps[0]["area_fraction"] - 1.0
+    hyst = (steps[2]["area_fraction"] / steps[0]["area_fraction"] - 1.0 if len(steps) > 2
+            else float("nan"))
     return dict(N=n, material=material, a0=a0, sigma=sigma, cpu=cpu, steps=steps,
-                hysteresis=hyst, coarse_start=coarse)
+                hysteresis=hyst, coarse_start=coarse, loading_only=loading_only)
 
 
 def _key(r: dict) -> tuple:
-    """A run's table: material, a0, σ and the start (rows before the coarse start: False)."""
-    return r["material"], r["a0"], r["sigma"], bool(r.get("coarse_start", False))
+    """A run's table: material, a0, σ, the start (rows before the coarse start: False) and
+    whether it is the loading state alone."""
+    return (r["material"], r["a0"], r["sigma"], bool(r.get("coarse_start", False)),
+            bool(r.get("loading_only", False)))
 
 
 def scan_one(n: int, a0_cells: float, sigma: float | None) -> dict:
@@ -145,11 +152,12 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
     by = {}
     for r in runs:
         by.setdefault(_key(r), []).append(r)
-    for (mat, a0, sig, coarse), rs in sorted(by.items(), key=lambda kv: str(kv[0])):
+    for (mat, a0, sig, coarse, only), rs in sorted(by.items(), key=lambda kv: str(kv[0])):
         rs = sorted(rs, key=lambda r: r["N"])
         lines += [f"## {mat}, a0 = {a0 * 1e6:g} µm, front smoothing σ = "
                   f"{f'default ({_default_sigma(mat):g} a0)' if sig is None else f'{sig:g} a0'}"
-                  + (", coarse-grid start" if coarse else ""), "",
+                  + (", coarse-grid start" if coarse else "")
+                  + (", loading state only (`--loading-only`)" if only else ""), "",
                   "| N | step | status | balanced | area | mean gap (µm) | μ | μ_a | G1/Δγ | "
                   "G2/Δγ | CPU s |", "|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in rs:
@@ -167,8 +175,11 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
                       "| quantity | p | extrapolated | " + " | ".join(
                           f"err N={r['N']}" for r in rs) + " |",
                       "|---|---|---|" + "---|" * len(rs)]
-            for k, name in ((0, "load 1e4"), (2, "unload 1e4")):
-                for key in ("area_fraction", "mean_gap", "mu"):
+            steps = ((0, "load 1e4"),) if only else ((0, "load 1e4"), (2, "unload 1e4"))
+            keys = (("area_fraction", "mean_gap", "mu", "G1", "G2", "mu_adhesive") if only
+                    else ("area_fraction", "mean_gap", "mu"))
+            for k, name in steps:
+                for key in keys:
                     vals = [r["steps"][k][key] for r in rs]
                     if max(abs(v) for v in vals) < 1e-12:  # zero to round-off (elastic μ)
                         continue
@@ -179,12 +190,12 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
                     p, finf, errs = richardson(vals)
                     lines.append(f"| {key} ({name}) | {p:.2f} | {finf:.5g} | " + " | ".join(
                         f"{e * 100:.2f} %" for e in errs) + " |")
-            if all(_verified(r, k) for r in rs[-3:] for k in (0, 2)):
+            if not only and all(_verified(r, k) for r in rs[-3:] for k in (0, 2)):
                 p, finf, errs = richardson([r["hysteresis"] for r in rs])
                 lines.append(f"| hysteresis | {p:.2f} | {finf:.4g} | " + " | ".join(
                     f"{e * 100:.1f} %" for e in errs) + " |")
             lines.append("")
-        lines += _pair_table(rs)
+        lines += _pair_table(rs, tuple(r["N"] for r in rs[-2:]) if only else (256, 512))
     lines += lengths_report(scans)
     path.write_text("\n".join(lines) + "\n")
 
@@ -198,16 +209,19 @@ PAIR = (("area_fraction", 0.02), ("mu", 0.02), ("G1", 0.05), ("G2", 0.05),
         ("mu_adhesive", 0.05))
 
 
-def _pair_table(rs: list) -> list:
-    """The relative change of each quantity from 256² to 512² against its tolerance."""
+def _pair_table(rs: list, pair=(256, 512)) -> list:
+    """The relative change of each quantity between the grids ``pair`` (N) against its
+    tolerance."""
     by_n = {r["N"]: r for r in rs}
-    if 256 not in by_n or 512 not in by_n:
+    if len(pair) < 2 or pair[0] not in by_n or pair[1] not in by_n:
         return []
-    a, b = by_n[256], by_n[512]
-    lines = ["256² against 512² (relative change; the tolerance after the slash):", "",
+    a, b = by_n[pair[0]], by_n[pair[1]]
+    lines = [f"{pair[0]}² against {pair[1]}² (relative change; the tolerance after the "
+             "slash):", "",
              "| step | " + " | ".join(k for k, _ in PAIR) + " |",
              "|---|" + "---|" * len(PAIR)]
-    for k, name in enumerate(("load 1e4", "load 3e4", "unload 1e4")):
+    names = ("load 1e4", "load 3e4", "unload 1e4")
+    for k, name in enumerate(names[:min(len(a["steps"]), len(b["steps"]))]):
         cells = []
         for key, tol in PAIR:
             x, y = a["steps"][k][key], b["steps"][k][key]
@@ -288,6 +302,9 @@ def main(argv=None):
     ap.add_argument("--coarse-start", action="store_true",
                     help="start every state from the coarse grid's front "
                          "(solver.coarse_start): a separate table")
+    ap.add_argument("--loading-only", action="store_true",
+                    help="the first state of the path only (1e4 Pa): a separate table, for "
+                         "grids where the whole path is too long (1024²)")
     ap.add_argument("--report", action="store_true")
     ap.add_argument("--scan", action="store_true",
                     help="only the elastic state against a0 and σ (SCAN)")
@@ -309,7 +326,8 @@ def main(argv=None):
         for mat in args.materials:
             for a0 in args.a0:
                 for n in args.sizes or (128, 256, 512):
-                    r = run_one(n, mat, a0, args.sigma, args.coarse_start)
+                    r = run_one(n, mat, a0, args.sigma, args.coarse_start,
+                                args.loading_only)
                     runs = [x for x in runs if (x["N"],) + _key(x) != (n,) + _key(r)] + [r]
                     args.out.write_text(json.dumps(runs, indent=1))
                     s = r["steps"]

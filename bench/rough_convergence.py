@@ -82,7 +82,8 @@ def run_one(n: int, material: str, a0: float, sigma: float | None,
                    balanced_fraction=float(st["balanced_fraction"]),
                    mean_pressure=float(st["mean_pressure"]),
                    unresolved_patches=int(st["unresolved_patches"]),
-                   message=str(st["solver_message"].values))
+                   message=str(st["solver_message"].values if "solver_message" in st
+                               else ds.attrs["solver_message"]))
         steps.append(row)
     hyst = (steps[2]["area_fraction"] / steps[0]["area_fraction"] - 1.0 if len(steps) > 2
             else float("nan"))
@@ -137,7 +138,9 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "contact patches (compare the tables of two a0 at the same N); in a viscoelastic "
              "scene the relaxation length vτ (4 µm here: 0.5, 1, 2 cells at 128², 256², 512²) "
              "must span several cells before the edge is resolved (the sinusoid validation "
-             "needs vτ ≥ 8 h).", "",
+             "needs vτ ≥ 8 h). The table marked \"loading state only\" (`--loading-only`) "
+             "adds 1024² for the first state of the path, where the whole path takes too "
+             "long.", "",
              "The state at a load is not unique. Adhesion makes the rough contact "
              "hysteretic: at 1e4 Pa the elastic unloading state holds 5-8 % more area "
              "than the loading state (both balanced), and the states between them are balanced too "

@@ -78,6 +78,8 @@ def run_one(n: int, material: str, a0: float, sigma: float | None,
         st = ds.isel(step=k)
         row = {key: float(st[key]) for key in KEYS if key != "mean_gap"}
         row["mean_gap"] = float(st["gap"].mean())
+        # μ's other forms (JSON only): the profile force on the mask, and −Σ p v̂·∇u
+        row.update(mu_profile=float(st["mu_profile"]), mu_dissipation=float(st["mu_dissipation"]))
         row.update(status=str(st["status"].values), iterations=int(st["iterations"]),
                    balanced_fraction=float(st["balanced_fraction"]),
                    mean_pressure=float(st["mean_pressure"]),

@@ -53,6 +53,7 @@ def default_smoothing(front_smoothing: float | None, viscoelastic: bool) -> floa
         return float(front_smoothing)
     return FRONT_SMOOTHING if viscoelastic else FRONT_SMOOTHING_ELASTIC
 
+
 #: σ = max(FRONT_SMOOTHING a0, SMOOTHING_PER_RADIUS r) for a patch of front radius r
 #: (:func:`patch_sigmas`; measured in docs/performance.md, the adhesive sphere); 0: σ fixed
 SMOOTHING_PER_RADIUS = 0.23

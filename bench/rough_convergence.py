@@ -153,7 +153,12 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "start by as much as the 256²/512² differences below (elastic at 512²: "
              "0.8 % of area on loading, 2.0 % on unloading). Compare grids along one "
              "start; the spread between starts is the resolution of the question \"the "
-             "state at this load\" on this surface.", ""]
+             "state at this load\" on this surface.", "",
+             "![refinement](figures/rough_convergence.png)", "",
+             "The figure: area fraction, μ and the release rates against N (open markers: "
+             "states not verified; dashed: the coarse-grid start; the elastic a0 = one cell "
+             "row is the scan below; μ's u-form, −Σ p v̂·∇u on the mask, is drawn for "
+             "comparison with the reported μ, docs/theory.md, outputs).", ""]
     by = {}
     for r in runs:
         by.setdefault(_key(r), []).append(r)
@@ -203,6 +208,76 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
         lines += _pair_table(rs, tuple(r["N"] for r in rs[-2:]) if only else (256, 512))
     lines += lengths_report(scans)
     path.write_text("\n".join(lines) + "\n")
+    figure(runs, scans, path.parent / "figures" / "rough_convergence.png")
+
+
+def _series(runs, material, step, key, coarse=False, only=None):
+    """(N, value, verified) of one quantity of one step along a table's grids (the
+    adhesiveless-start path and, where ``only`` is None, the loading-only runs too)."""
+    pts = {}
+    for r in runs:
+        if (r["material"] != material or bool(r.get("coarse_start", False)) != coarse
+                or r["sigma"] is not None or step >= len(r["steps"])):
+            continue
+        if only is not None and bool(r.get("loading_only", False)) != only:
+            continue
+        st = r["steps"][step]
+        if key in st:
+            pts.setdefault(r["N"], (st[key], _verified(r, step)))
+    ns = sorted(pts)
+    return ns, [pts[n][0] for n in ns], [pts[n][1] for n in ns]
+
+
+def _plot(ax, ns, vals, ok, label, style="-", marker="o", color=None):
+    if not ns:
+        return
+    line, = ax.plot(ns, vals, style, color=color, label=label)
+    c = line.get_color()
+    for n, v, good in zip(ns, vals, ok, strict=True):
+        ax.plot([n], [v], marker, color=c, mfc=c if good else "white")
+
+
+def figure(runs: list, scans: list, out: Path) -> None:
+    """Area fraction, μ and G1, G2 against N from the JSON (docs/rough_convergence.md)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(2, 2, figsize=(10, 7.5))
+    (ae, asls), (amu, ag) = axes
+    names = {0: "loading 1e4 Pa", 2: "unloading to 1e4 Pa"}
+    for k, col in ((0, "C0"), (2, "C3")):
+        _plot(ae, *_series(runs, "elastic", k, "area_fraction"), names[k], color=col)
+        start = "coarse-grid start" if k == 0 else ""
+        _plot(ae, *_series(runs, "elastic", k, "area_fraction", coarse=True), start, "--",
+              "s", col)
+        _plot(asls, *_series(runs, "sls", k, "area_fraction"), names[k], color=col)
+        _plot(asls, *_series(runs, "sls", k, "area_fraction", coarse=True), start, "--",
+              "s", col)
+    one = sorted((r for r in scans if r["a0_cells"] == 1 and r["sigma"] is None),
+                 key=lambda r: r["N"])
+    _plot(ae, [r["N"] for r in one], [r["area_fraction"] for r in one],
+          [r["status"] == "partial" for r in one], "loading, a0 = one cell", ":", "^", "C2")
+    _plot(amu, *_series(runs, "sls", 0, "mu"), "μ (profile force at the front)", color="C0")
+    _plot(amu, *_series(runs, "sls", 0, "mu_dissipation"), "u-form −Σ p v̂·∇u / W", ":",
+          "x", "C7")
+    _plot(ag, *_series(runs, "sls", 0, "G1"), "G1 (trailing)", color="C0")
+    _plot(ag, *_series(runs, "sls", 0, "G2"), "G2 (leading)", color="C1")
+    titles = ("elastic, a0 = 7.8 µm: area fraction", "SLS, a0 = 7.8 µm: area fraction",
+              "SLS, loading: friction coefficient", "SLS, loading: release rates (J/m²)")
+    for ax, title in zip(axes.ravel(), titles, strict=True):
+        ax.set_xscale("log", base=2)
+        ax.set_xlabel("N (cells per side, L = 1 mm)")
+        ax.set_title(title, fontsize=10)
+        ax.grid(alpha=0.3)
+        if ax.get_lines():
+            ax.legend(fontsize=8)
+    ag.axhline(0.01, color="k", lw=0.8, ls=":")
+    fig.tight_layout()
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
 
 
 def _verified(run: dict, k: int) -> bool:

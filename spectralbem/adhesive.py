@@ -30,7 +30,6 @@ from .contact import friction, full_contact, sliding_direction
 from .conventions import control
 from .criterion import (
     SMOOTHING_PER_RADIUS,
-    default_smoothing,
     front_cells,
     front_tests,
     predictor_tests,
@@ -163,7 +162,6 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     cell = op.cell
     h = check_heights(heights, cell)
     _check_inputs(cell, penetration, mean_pressure, dgamma, a0, criterion, front_tol)
-    front_smoothing = default_smoothing(front_smoothing, op.viscoelastic)
     if coarse_start and coarse.eligible(cell, a0):
         mask0 = _coarse_start(op, h, dgamma, a0, penetration, mean_pressure, mask0, dict(
             max_outer=max_outer, front_smoothing=front_smoothing,

@@ -232,7 +232,8 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
         # the new load's Δ; unloading: the adhesiveless contact is inside the carried one)
         m_free = _adhesiveless_mask(op, scene)
         mask0 = m_free if mask0 is None else (mask0 | m_free if m_free is not None else mask0)
-        obs = friction_observables(op, h)
+        # the profile force's fields, recorded per band state (viscoelastic μ, below)
+        obs = friction_observables(op, h) if op.viscoelastic else None
         state = r = _grid_state(scene, op, mask0, progress, obs)
         p, mask, delta, status = r.pressure, r.contact, r.penetration, r.status
         u = r.displacement

@@ -61,6 +61,18 @@ SMOOTHING_PER_RADIUS = 0.23
 #: average along the front graph (True) or with a grid Gaussian restricted to front cells
 FRONT_GRAPH = True
 
+#: the band tests of the adhesive solve's intermediate states stop their masked solves at
+#: this many times the state's relative tolerance, at most 1e-6 (1e-7 at the default 1e-10);
+#: the final state is tested at the state's tolerance (docs/performance.md, "The adhesive
+#: state against its adhesiveless solve": the same masks on the rough states, 25-33 % fewer
+#: Krylov products in the band tests)
+BAND_RTOL_FACTOR = 1e3
+
+
+def loose_band_rtol(rtol: float) -> float:
+    """The band tests' tolerance of an intermediate state (:data:`BAND_RTOL_FACTOR`)."""
+    return max(rtol, min(BAND_RTOL_FACTOR * rtol, 1e-6))
+
 
 def _wrap_edt(free: np.ndarray, sampling, pad: int):
     """Periodic Euclidean distance (and nearest-target indices) to the cells where free is
@@ -194,7 +206,7 @@ class FrontTest:
     F_close: np.ndarray  # on outer front cells (nan elsewhere)
     F_open: np.ndarray  # on inner front cells
     G_close: np.ndarray  # conservative release rate (δL - δL_P)/δA per outer front cell (J/m²)
-    dLP_cells: np.ndarray  # δL_P attributed to each closing-band cell (adjoint), J
+    dLP_cells: np.ndarray  # δL_P of each band cell (adjoint), J: closing outside A, opening in A
     g_open: np.ndarray  # gap of each opened band cell in its opening-test state (nan elsewhere)
     closing: dict  # colour -> LayerWork of the closing band
     opening: dict  # colour -> LayerWork of the opening band
@@ -206,6 +218,11 @@ class FrontTest:
     dLP_rate: np.ndarray | None = None  # δL_P/δA of each outer front cell's band (J/m²)
     width_out: np.ndarray | None = None  # closing band's area per front length (m), outer
     width_in: np.ndarray | None = None  # opening band's, on the inner front cells
+    dLP_rate_in: np.ndarray | None = None  # δL_P/δA of each inner front cell's opening band
+    #: what the adjoint split of δL_P still needs (:func:`complete_adjoint`): the prescribed
+    #: w and, per colour, the owners, band cells and weights of the closing and opening
+    #: tests; None once G_close, dLP_rate, dLP_rate_in and dLP_cells are filled
+    pending: dict | None = None
 
 
 def _balance(dL, cells, owner, dg_area, F, W) -> None:  # dg_area: Δγ·a on ``cells``
@@ -266,7 +283,7 @@ class _Tester:
 
     def __init__(self, op, w, mask, p, u, dg, rtol, observables):
         self.op, self.w, self.mask, self.p, self.u = op, w, mask, p, u
-        self.dg, self.rtol, self.observables = dg, rtol, observables
+        self.dg, self.rtol, self.observables = dg, rtol, observables  # rtol: the band solves'
         self.area = op.cell.cell_area
         self.solves, self.ok, self.msg = 0, True, "converged"
 
@@ -285,22 +302,22 @@ class _Tester:
             self.msg = res.message
         return res.field
 
-    def close(self, D, psi):
-        """Close the band D at fixed Δ: per-cell δL_j = ½ g_j(A) t_j(A ∪ D) a (Eq. 8, t = −p)
-        and δL_P,j (adjoint weights ``psi`` on the grid, None when elastic); the layer's
-        :class:`LayerWork` from Eqs. (8)-(10) with the actual fields."""
+    def close(self, D):
+        """Close the band D at fixed Δ: per-cell δL_j = ½ g_j(A) t_j(A ∪ D) a (Eq. 8, t = −p),
+        a·p_j(A ∪ D) on the band (what the adjoint split of δL_P weighs,
+        :func:`complete_adjoint`) and the layer's :class:`LayerWork` from Eqs. (8)-(10) with
+        the actual fields."""
         a, p, u, w = self.area, self.p, self.u, self.w
         pp = self.solve(self.mask | D)
         cells = np.flatnonzero(D)
-        ppD = pp.ravel()[cells]
-        dL = -0.5 * a * (u.ravel()[cells] - w.ravel()[cells]) * ppD
+        apD = a * pp.ravel()[cells]
+        dL = -0.5 * (u.ravel()[cells] - w.ravel()[cells]) * apD
         up = self.op.apply(pp)
         dU = 0.5 * a * (np.vdot(pp, up) - np.vdot(p, u))
         dLP = 0.5 * a * (np.vdot(up, p) - np.vdot(u, pp))
-        dLPj = a * ppD * psi.ravel()[cells] if psi is not None else np.zeros(cells.size)
         layer = LayerWork(float(dL.sum()), float(dU), float(dLP), float(cells.size * a),
                           self.observe(pp))
-        return cells, dL, dLPj, layer
+        return cells, dL, apD, layer
 
     def open(self, R):
         """Open the band R at fixed Δ: δL_j = ½ g_j(A ∖ R) t_j(A) a, the gap of each opened
@@ -325,7 +342,8 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
                 dgamma, a0: float, *, rtol: float = 1e-10, vhat=(1.0, 0.0),
                 observables: dict | None = None, front_smoothing: float | None = None,
                 smoothing_per_radius: float = SMOOTHING_PER_RADIUS,
-                u: np.ndarray | None = None) -> FrontTest:
+                u: np.ndarray | None = None, adjoint: bool = True,
+                band_rtol: float | None = None) -> FrontTest:
     """Closing and opening tests of every front cell at fixed Δ (Eqs. 3, 8-10 on bands).
 
     The band is exactly ``a0`` wide for any a0/h ≥ 1: the works (and every integrated
@@ -337,6 +355,11 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     front.  ``front_smoothing``: σ of the average along the front in units of a0 (None: the
     default of the scene's kind, :func:`default_smoothing`), raised to
     ``smoothing_per_radius`` times the front radius of large patches (:func:`patch_sigmas`).
+    ``adjoint``: split δL_P over the closing bands' cells now (G_close, dLP_rate, dLP_cells;
+    one transposed solve in a viscoelastic scene); False leaves it to
+    :func:`complete_adjoint` — the balance itself (F) never needs it, only the outputs of
+    the final state do.  ``band_rtol``: the band states' solve tolerance (None: ``rtol``;
+    :func:`loose_band_rtol` for an intermediate state whose tests only move the front).
     """
     cell = op.cell
     area = cell.cell_area
@@ -346,18 +369,16 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     b = bands(mask, cell.hx, cell.hy, a0)
     if u is None:
         u = op.apply(p)
-    tester = _Tester(op, w, mask, p, u, dg, rtol, observables or {})
+    tester = _Tester(op, w, mask, p, u, dg, rtol if band_rtol is None else band_rtol,
+                     observables or {})
     F_close = np.full(mask.shape, np.nan)
     F_open = np.full(mask.shape, np.nan)
     g_open = np.full(mask.shape, np.nan)
     force_close = np.zeros(mask.shape, bool)
     W_close = np.zeros(mask.shape)  # Δγ·area of each owner's band (weights along the front)
     W_open = np.zeros(mask.shape)
-    G_close = np.full(mask.shape, np.nan)
-    dLP_rate = np.full(mask.shape, np.nan)
-    dLP_cells = np.zeros(mask.shape)
     closing, opening = {}, {}
-    psi = adjoint_weights(op, mask, p, rtol) if op.viscoelastic else None
+    pending = {"w": w, "close": [], "open": []}  # what the adjoint split needs
     normal = b.normal  # two N² arrays, computed once for the colours, averages and widths
     cols = colours(b, vhat, op.viscoelastic, normal)
     area_out = np.zeros(mask.shape)  # each front cell's band area (widths interpolated)
@@ -375,31 +396,31 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             force_close.ravel()[np.unique(own[band])] = True
         elif band.any():
             owners = np.unique(own[band])
-            acc = {k: np.zeros(owners.size) for k in ("dL", "dLP", "dg", "area")}
-            parts = []
+            acc = {k: np.zeros(owners.size) for k in ("dL", "dg", "area")}
+            parts, bands_ = [], []
             for m, wt in widths:
                 D = (band & (d_out <= m * hmin + tol)).reshape(mask.shape)
-                cells, dL, dLPj, layer = tester.close(D, psi)
+                cells, dL, apD, layer = tester.close(D)
                 parts.append((wt, layer))
-                _owner_sums({"dL": dL, "dLP": dLPj, "dg": _dg_area(dg, area, cells),
+                bands_.append((cells, wt, apD))
+                _owner_sums({"dL": dL, "dg": _dg_area(dg, area, cells),
                              "area": np.full(cells.size, area)}, own[cells], owners, wt, acc)
-                dLP_cells.ravel()[cells] += wt * dLPj
             closing[ci] = _weighted(parts)
             has = acc["dg"] > 0
             F_close.ravel()[owners[has]] = acc["dL"][has] / acc["dg"][has] - 1.0
             W_close.ravel()[owners[has]] = acc["dg"][has]
-            G_close.ravel()[owners[has]] = (acc["dL"][has] - acc["dLP"][has]) / acc["area"][has]
-            dLP_rate.ravel()[owners[has]] = acc["dLP"][has] / acc["area"][has]
             area_out.ravel()[owners] = acc["area"]
+            pending["close"].append((owners[has], bands_, acc["dL"][has], acc["area"][has]))
         band = (own_i >= 0) & col_flat[np.maximum(own_i, 0)]
         if band.any():
             owners = np.unique(own_i[band])
             acc = {k: np.zeros(owners.size) for k in ("dL", "dg", "area")}
-            parts = []
+            parts, bands_ = [], []
             for m, wt in widths:
                 R = (band & (d_in <= m * hmin + tol)).reshape(mask.shape)
                 cells, dL, gr, layer = tester.open(R)
                 parts.append((wt, layer))
+                bands_.append((cells, wt))
                 g_open.ravel()[cells] = gr  # the widest band's gaps last
                 _owner_sums({"dL": dL, "dg": _dg_area(dg, area, cells),
                              "area": np.full(cells.size, area)}, own_i[cells], owners, wt,
@@ -409,6 +430,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             F_open.ravel()[owners[has]] = acc["dL"][has] / acc["dg"][has] - 1.0
             W_open.ravel()[owners[has]] = acc["dg"][has]
             area_in.ravel()[owners] = acc["area"]
+            pending["open"].append((owners[has], bands_, acc["area"][has]))
     sigma = _sigma_cells(default_smoothing(front_smoothing, op.viscoelastic), a0, hmin,
                          mask.shape)
     width_out, width_in = band_widths(b, area_out, area_in, normal, sigma, a0)
@@ -418,9 +440,74 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
                                      smoothing_per_radius, normal)
     del normal
     F_close[force_close] = -np.inf
-    solves = tester.solves + bool(op.viscoelastic)
-    return FrontTest(F_close, F_open, G_close, dLP_cells, g_open, closing, opening, cols, b,
-                     solves, bool(tester.ok), tester.msg, dLP_rate, width_out, width_in)
+    nan = np.full(mask.shape, np.nan)
+    out = FrontTest(F_close, F_open, nan, np.zeros(mask.shape), g_open, closing, opening, cols,
+                    b, tester.solves, bool(tester.ok), tester.msg, nan.copy(), width_out,
+                    width_in, pending=pending)
+    return complete_adjoint(out, op, mask, p, rtol) if adjoint else out
+
+
+def complete_adjoint(tests: FrontTest, op: SpectralOperator, mask: np.ndarray, p: np.ndarray,
+                     rtol: float = 1e-10) -> FrontTest:
+    """Fill the adjoint split of δL_P (Eq. 10) over the band cells of ``tests`` (made on
+    ``mask`` with its solution ``p``) in place and return ``tests`` (a no-op once filled).
+
+    Closing bands: δL_P,j = a p_j(A ∪ D) ψ_j with ψ the adjoint weights of A
+    (:func:`adjoint_weights`, one transposed solve); the rate δL_P/δA and G_close =
+    (δL − δL_P)/δA of each outer front cell.  Opening bands: opening R is the closure of R
+    from A ∖ R, so δL_P,j = a p_j(A) ψ'_j with ψ' the weights of A ∖ R (one solve for its
+    pressure and one transposed solve per opening test); the rate of each inner front cell
+    (``dLP_rate_in``), with which the release rate is interpolated to the balanced edge
+    (front.release_rates).  An elastic scene has δL_P ≡ 0: no solve."""
+    pend = tests.pending
+    if pend is None:
+        return tests
+    visco = bool(op.viscoelastic)
+    a = op.cell.cell_area
+    psi = None
+    if visco and pend["close"]:
+        psi = adjoint_weights(op, mask, p, rtol).ravel()
+        tests.solves += 1
+    own = tests.bands.outer_owner.ravel()
+    for owners, bands_, dL, area in pend["close"]:
+        dLP = np.zeros(owners.size)
+        for cells, wt, apD in bands_ if psi is not None else ():
+            dLPj = apD * psi[cells]
+            tests.dLP_cells.ravel()[cells] += wt * dLPj
+            dLP += wt * _owner_bincount(dLPj, own[cells], owners)
+        tests.G_close.ravel()[owners] = (dL - dLP) / area
+        tests.dLP_rate.ravel()[owners] = dLP / area
+    if visco:
+        tests.dLP_rate_in = np.full(mask.shape, np.nan)
+        own = tests.bands.inner_owner.ravel()
+        for owners, bands_, area in pend["open"]:
+            dLP = np.zeros(owners.size)
+            for cells, wt in bands_:
+                rest = mask.copy()
+                rest.ravel()[cells] = False
+                if not rest.any():  # opening detaches: no stress, no work of any kind
+                    continue
+                res = solve_masked(op, rest, pend["w"], x0=p, rtol=rtol)
+                tests.solves += 1
+                if not res.converged:  # no split: the closing band's rate alone (nan here)
+                    dLP[:] = np.nan
+                    break
+                psi_r = adjoint_weights(op, rest, res.field, rtol).ravel()
+                tests.solves += 1
+                dLPj = a * p.ravel()[cells] * psi_r[cells]
+                tests.dLP_cells.ravel()[cells] += wt * dLPj
+                dLP += wt * _owner_bincount(dLPj, own[cells], owners)
+            tests.dLP_rate_in.ravel()[owners] = dLP / area
+    tests.pending = None
+    return tests
+
+
+def _owner_bincount(values, owner, owners):
+    """Σ values per entry of the sorted ``owners`` (cells whose owner is not listed: none)."""
+    slot = np.searchsorted(owners, owner)
+    slot = np.minimum(slot, owners.size - 1)
+    keep = owners[slot] == owner
+    return np.bincount(slot[keep], weights=values[keep], minlength=owners.size)
 
 
 def _mirror(field_: np.ndarray, valid: np.ndarray, cells: np.ndarray, owners: np.ndarray,

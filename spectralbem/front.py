@@ -70,16 +70,65 @@ def at_front(tests, offset_out, base: dict, a0: float) -> dict:
     return out
 
 
-def release_rates(op, tests, where, dgamma, ds=None):
-    """(G map, G1, G2): the energy release rate G = Δγ − δL_P/δA of the closing bands on the
-    outer front cells ``where`` (nan elsewhere; Eqs. 3, 6, 10) and its front-length averages
-    over the trailing and leading colours (one colour: the same average twice).  ``ds``: the
+def _neighbour_mean(field_: np.ndarray, where: np.ndarray, at: np.ndarray) -> np.ndarray:
+    """Mean of ``field_`` over the 4-neighbours (periodic) where ``where`` holds and the
+    field is finite, at the flat indices ``at`` (nan where there is none)."""
+    nx, ny = field_.shape
+    i, j = np.divmod(at, ny)
+    f, wh = field_.ravel(), where.ravel()
+    s = np.zeros(at.size)
+    c = np.zeros(at.size)
+    for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+        k = ((i + di) % nx) * ny + (j + dj) % ny
+        v = f[k]
+        ok = wh[k] & np.isfinite(v)
+        s += np.where(ok, v, 0.0)
+        c += ok
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(c > 0, s / c, np.nan)
+
+
+def rate_at_edge(tests, offset_out, a0: float) -> np.ndarray:
+    """δL_P/δA at the balanced sub-cell edge of each outer front cell (nan elsewhere): the
+    closing band's rate, whose band starts at the mask edge x_b, and the opening band's (the
+    mean over the inner neighbours), whose band starts at x_b − w, interpolated linearly to
+    the edge x_b + s — the seed's convention, a band's value standing at its start (the
+    1D method's G at l*), with w the bands' mean effective width, as in the offsets
+    (moves.offsets).  Offsets beyond ±a0 count as ±a0 (front.at_front); the closing rate
+    alone where the opening rate or the offset is unknown."""
+    b = tests.bands
+    rate = np.array(tests.dLP_rate, dtype=float)
+    if tests.dLP_rate_in is None:
+        return rate
+    io = np.flatnonzero(b.outer_front)
+    ro = _neighbour_mean(tests.dLP_rate_in, b.inner_front, io)
+    s = np.clip(offset_out.ravel()[io], -a0, a0)
+    w = np.full(io.size, a0)
+    if tests.width_out is not None:
+        wo = tests.width_out.ravel()[io]
+        wi = _neighbour_mean(tests.width_in, b.inner_front, io)
+        w = np.where(np.isfinite(wo) & np.isfinite(wi), 0.5 * (wo + wi),
+                     np.where(np.isfinite(wo), wo, np.where(np.isfinite(wi), wi, a0)))
+    rc = rate.ravel()[io]
+    t = (w + s) / w  # 1 at the closing band's start, 0 at the opening band's
+    rate.ravel()[io] = np.where(np.isfinite(ro) & np.isfinite(s), ro + (rc - ro) * t, rc)
+    return rate
+
+
+def release_rates(op, tests, where, dgamma, ds=None, offset_out=None, a0=None):
+    """(G map, G1, G2): the energy release rate G = Δγ − δL_P/δA on the outer front cells
+    ``where`` (nan elsewhere; Eqs. 3, 6, 10) and its front-length averages over the trailing
+    and leading colours (one colour: the same average twice).  With the balanced edge's
+    offsets ``offset_out`` (and ``a0``), δL_P/δA is that of the balanced sub-cell edge
+    (:func:`rate_at_edge`), else the closing band's at the mask edge.  ``ds``: the
     front-length weights if the caller has them (:func:`front_length_weights`)."""
     cell = op.cell
     if ds is None:
         ds = front_length_weights(tests.bands.normal, cell.hx, cell.hy)
     dg = np.broadcast_to(np.asarray(dgamma, float), cell.shape)
-    G = np.where(where & np.isfinite(tests.dLP_rate), dg - tests.dLP_rate, np.nan)
+    rate = (tests.dLP_rate if offset_out is None
+            else rate_at_edge(tests, offset_out, a0))
+    G = np.where(where & np.isfinite(rate), dg - rate, np.nan)
     ok = np.isfinite(G)
     avg = []
     for col in tests.colour_map:
@@ -107,7 +156,7 @@ def front_outputs(op, r, dgamma) -> dict:
     length = float(np.sum(ds[edge]))
     if r.crack_tips is not None:  # edges held by contact are no crack tips
         ok &= r.crack_tips
-    G, *G1G2 = release_rates(op, t, ok, dgamma, ds)
+    G, *G1G2 = release_rates(op, t, ok, dgamma, ds, r.offset_out, r.a0)
     ok &= np.isfinite(G)
     if r.crack_tips is not None:
         # a side (trailing, leading) whose every edge is held by contact has no crack tip:

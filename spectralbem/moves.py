@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .front import sharp_crack_offset, sub_cell_offset, touching
+from .front import _neighbour_mean, sharp_crack_offset, sub_cell_offset, touching
 
 __all__ = ["offsets", "moves", "stale_pins", "overloaded_pins", "held_offsets", "crack_tips",
            "release_out_of_bounds", "release_bound", "unverified_pins", "blocked",
@@ -19,24 +19,6 @@ __all__ = ["offsets", "moves", "stale_pins", "overloaded_pins", "held_offsets", 
 OSCILLATION_FLIPS = 3
 #: this many consecutive iterations that move only oscillating cells end the solve
 OSCILLATION_RUN = 6
-
-
-def _neighbour_mean(field_: np.ndarray, where: np.ndarray, at: np.ndarray) -> np.ndarray:
-    """Mean of ``field_`` over the 4-neighbours (periodic) where ``where`` holds and the
-    field is finite, at the flat indices ``at`` (nan where there is none)."""
-    nx, ny = field_.shape
-    i, j = np.divmod(at, ny)
-    f, wh = field_.ravel(), where.ravel()
-    s = np.zeros(at.size)
-    c = np.zeros(at.size)
-    for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1)):
-        k = ((i + di) % nx) * ny + (j + dj) % ny
-        v = f[k]
-        ok = wh[k] & np.isfinite(v)
-        s += np.where(ok, v, 0.0)
-        c += ok
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(c > 0, s / c, np.nan)
 
 
 def offsets(F_close, F_open, outer, inner, a0, sharp=False, widths=None):
@@ -164,7 +146,7 @@ def crack_tips(res_out, held, outer):
     return res_out & ~touching(held & ~outer)
 
 
-def release_out_of_bounds(op, tests, tip, dgamma) -> str:
+def release_out_of_bounds(op, tests, tip, dgamma, offset_out=None, a0=None) -> str:
     """'' or why the balanced front is no equilibrium: a front-averaged G1 or G2 on the
     crack-tip edges (resolved outer front cells not next to an edge held by contact) above
     (1 + RELEASE_SLACK) β Δγ, β = E∞/E0: an edge moving steadily in a viscoelastic solid
@@ -177,7 +159,7 @@ def release_out_of_bounds(op, tests, tip, dgamma) -> str:
 
     if not tip.any():
         return ""
-    _, G1, G2 = release_rates(op, tests, tip, dgamma)
+    _, G1, G2 = release_rates(op, tests, tip, dgamma, offset_out=offset_out, a0=a0)
     fo = {"G1": G1, "G2": G2}
     beta = op.material.beta
     hi = release_bound(op)

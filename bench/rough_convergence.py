@@ -10,12 +10,14 @@ balanced fractions and CPU time; then the observed order and a Richardson estima
 error of each N from the three finest grids.
 
 Usage: python bench/rough_convergence.py [--sizes 128 256 512] [--materials elastic sls]
-           [--a0 7.8125e-6] [--sigma 1.5] [--coarse-start] [--loading-only]
+           [--a0 7.8125e-6] [--sigma 1.5] [--front-tol 1.0] [--coarse-start] [--loading-only]
            [--out bench/rough_convergence.json] [--report]
        python bench/rough_convergence.py --scan
 ``--report`` only rewrites docs/rough_convergence.md from the JSON; ``--scan`` runs the
 elastic loading state against a0 and σ (SCAN; JSON rough_convergence_lengths.json).  σ, the
-front smoothing, is given in units of a0 (``solver.front_smoothing``).
+front smoothing, is given in units of a0 (``solver.front_smoothing``); ``--front-tol`` sets the
+tolerance of the balance in position (cells, ``solver.front_tol``; default max(0.5, a0/(8h))):
+each value its own table.
 """
 
 from __future__ import annotations
@@ -45,7 +47,7 @@ MATERIALS = {
 
 
 def _solve(n: int, material: str, a0: float, sigma: float | None, loads=None,
-           coarse: bool = False):
+           coarse: bool = False, front_tol: float | None = None):
     """(Dataset, CPU s) of the case at N², the material's overrides, a0 (m), σ (in units of
     a0, growing with large patches as by default; None: the material's default), the load path
     (None: the case's) and whether each state starts from the coarse grid's front."""
@@ -59,18 +61,22 @@ def _solve(n: int, material: str, a0: float, sigma: float | None, loads=None,
         ov["solver.front_smoothing"] = sigma
     if coarse:
         ov["solver.coarse_start"] = True
+    if front_tol is not None:
+        ov["solver.front_tol"] = front_tol
     t = time.process_time()
     ds = solve(load_scene(raw, overrides=ov, base_dir=CASE.parent))
     return ds, time.process_time() - t
 
 
 def run_one(n: int, material: str, a0: float, sigma: float | None,
-            coarse: bool = False, loading_only: bool = False) -> dict:
+            coarse: bool = False, loading_only: bool = False,
+            front_tol: float | None = None) -> dict:
     """One load path at N², the material's overrides, a0 (m), σ (units of a0, or None),
     from the adhesiveless start or the coarse grid's front (``coarse``); ``loading_only``:
-    the first state of the path only (1e4 Pa)."""
+    the first state of the path only (1e4 Pa); ``front_tol``: solver.front_tol (None: the
+    default)."""
     ds, cpu = _solve(n, material, a0, sigma, loads=[1e4] if loading_only else None,
-                     coarse=coarse)
+                     coarse=coarse, front_tol=front_tol)
     if "step" not in ds.dims:
         ds = ds.expand_dims("step")
     steps = []
@@ -90,14 +96,15 @@ def run_one(n: int, material: str, a0: float, sigma: float | None,
     hyst = (steps[2]["area_fraction"] / steps[0]["area_fraction"] - 1.0 if len(steps) > 2
             else float("nan"))
     return dict(N=n, material=material, a0=a0, sigma=sigma, cpu=cpu, steps=steps,
-                hysteresis=hyst, coarse_start=coarse, loading_only=loading_only)
+                hysteresis=hyst, coarse_start=coarse, loading_only=loading_only,
+                front_tol=front_tol)
 
 
 def _key(r: dict) -> tuple:
-    """A run's table: material, a0, σ, the start (rows before the coarse start: False) and
-    whether it is the loading state alone."""
+    """A run's table: material, a0, σ, the start (rows before the coarse start: False),
+    whether it is the loading state alone, and the tolerance in position (None: default)."""
     return (r["material"], r["a0"], r["sigma"], bool(r.get("coarse_start", False)),
-            bool(r.get("loading_only", False)))
+            bool(r.get("loading_only", False)), r.get("front_tol"))
 
 
 def scan_one(n: int, a0_cells: float, sigma: float | None) -> dict:
@@ -162,11 +169,13 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
     by = {}
     for r in runs:
         by.setdefault(_key(r), []).append(r)
-    for (mat, a0, sig, coarse, only), rs in sorted(by.items(), key=lambda kv: str(kv[0])):
+    for (mat, a0, sig, coarse, only, ftol), rs in sorted(by.items(),
+                                                         key=lambda kv: str(kv[0])):
         rs = sorted(rs, key=lambda r: r["N"])
         lines += [f"## {mat}, a0 = {a0 * 1e6:g} µm, front smoothing σ = "
                   f"{f'default ({_default_sigma(mat):g} a0)' if sig is None else f'{sig:g} a0'}"
                   + (", coarse-grid start" if coarse else "")
+                  + (f", front_tol = {ftol:g} cells (`--front-tol`)" if ftol is not None else "")
                   + (", loading state only (`--loading-only`)" if only else ""), "",
                   "| N | step | status | balanced | area | mean gap (µm) | μ | μ_a | G1/Δγ | "
                   "G2/Δγ | CPU s |", "|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -217,7 +226,8 @@ def _series(runs, material, step, key, coarse=False, only=None):
     pts = {}
     for r in runs:
         if (r["material"] != material or bool(r.get("coarse_start", False)) != coarse
-                or r["sigma"] is not None or step >= len(r["steps"])):
+                or r["sigma"] is not None or r.get("front_tol") is not None
+                or step >= len(r["steps"])):
             continue
         if only is not None and bool(r.get("loading_only", False)) != only:
             continue
@@ -377,6 +387,8 @@ def main(argv=None):
                     choices=sorted(MATERIALS))
     ap.add_argument("--a0", type=float, nargs="+", default=[7.8125e-6])
     ap.add_argument("--sigma", type=float, default=None)
+    ap.add_argument("--front-tol", type=float, default=None,
+                    help="solver.front_tol in cells (default: the solver's): a separate table")
     ap.add_argument("--out", type=Path, default=Path(__file__).with_name(
         "rough_convergence.json"))
     ap.add_argument("--coarse-start", action="store_true",
@@ -407,7 +419,7 @@ def main(argv=None):
             for a0 in args.a0:
                 for n in args.sizes or (128, 256, 512):
                     r = run_one(n, mat, a0, args.sigma, args.coarse_start,
-                                args.loading_only)
+                                args.loading_only, args.front_tol)
                     runs = [x for x in runs if (x["N"],) + _key(x) != (n,) + _key(r)] + [r]
                     args.out.write_text(json.dumps(runs, indent=1))
                     s = r["steps"]

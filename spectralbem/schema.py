@@ -154,7 +154,8 @@ SECTIONS = {
                                    default=0.23),
         "front_tol": _k("number", "tolerance of the edge balance in position: every resolved "
                         "front cell's balanced edge within ½ + front_tol cells of the mask "
-                        "edge", "cells", 0, 0.5, True, default=0.5),
+                        "edge (default max(0.5, a0/(8h)); at most max(0.5, a0/(2h)))",
+                        "cells", 0, 100, True, default=None),
         "criterion": _k("string", "front criterion of adhesive scenes: exact layer tests, the "
                         "zero-solve predictor then exact tests (hybrid), or the predictor "
                         "alone (predictor; less accurate, see docs/performance.md)",
@@ -390,6 +391,18 @@ def _check_seed(out, problems):
             if a0 < hc * (1 - 1e-9):
                 problems.append(f"sinusoid.a0_tilde: {a0!r} is smaller than one cell "
                                 f"({hc:.4g}) of the grid model; allowed [{hc:.4g}, 1]")
+            else:
+                _check_front_tol(out, a0 / hc, problems)
+
+
+def _check_front_tol(out, a0_cells: float, problems) -> None:
+    """solver.front_tol within (0, max(0.5, a0/(2h))]: the edge within half the band
+    (adhesive.solve_adhesive)."""
+    ft = (out.get("solver") or {}).get("front_tol")
+    top = max(0.5, 0.5 * a0_cells)
+    if ft is not None and ft > top:
+        problems.append(f"solver.front_tol: {ft!r} cells is larger than half of a0 "
+                        f"({a0_cells:.4g} cells); allowed (0, {top:.4g}]")
 
 
 def _check_physical(out, problems):
@@ -427,6 +440,8 @@ def _check_physical(out, problems):
             elif a0 > 0.5 * max(g["Lx"], g["Ly"]):
                 problems.append(f"adhesion.a0: {a0!r} m is larger than half the cell; allowed "
                                 f"[{hmin:.4g}, {0.5 * max(g['Lx'], g['Ly']):.4g}] m")
+            else:
+                _check_front_tol(out, a0 / hmin, problems)
         fr = adh.get("flaw_radius")
         if adhesive and fr is not None and fr > 0.5 * max(g["Lx"], g["Ly"]):
             # a flaw wider than the cell would open the whole contact at once

@@ -16,8 +16,8 @@ Usage: python bench/rough_convergence.py [--sizes 128 256 512] [--materials elas
 ``--report`` only rewrites docs/rough_convergence.md from the JSON; ``--scan`` runs the
 elastic loading state against a0 and σ (SCAN; JSON rough_convergence_lengths.json).  σ, the
 front smoothing, is given in units of a0 (``solver.front_smoothing``); ``--front-tol`` sets the
-tolerance of the balance in position (cells, ``solver.front_tol``; default max(0.5, a0/(8h))):
-each value its own table.
+tolerance of the balance in position (cells, ``solver.front_tol``; default 0.5): each value its
+own table.
 """
 
 from __future__ import annotations

@@ -66,14 +66,11 @@ from .spectral import SpectralOperator
 from .state import AdhesiveState
 from .surfaces import check_heights
 
-#: tolerance of the balance in position (cells): a resolved front point is balanced when its
-#: balanced edge lies within ½ h + front_tol·h of the mask edge; by default
-#: max(FRONT_TOL, FRONT_TOL_PER_A0 · a0/h) (:func:`default_front_tol`): one cell, the
-#: resolution of the mask, or an eighth of the band where a0 spans more than four cells —
-#: the edge is interpolated over the band, so its scatter from state to state grows with
-#: a0/h (docs/theory.md, the 2D criterion and the sub-cell front, "Convergence")
+#: default tolerance of the balance in position (cells): a resolved front point is balanced
+#: when its balanced edge lies within ½ h + FRONT_TOL·h of the mask edge, one cell by default
+#: (the resolution of the mask); larger values, up to half the band, converge faster where a0
+#: spans many cells and cost accuracy in G (docs/theory.md, the 2D criterion, "Convergence")
 FRONT_TOL = 0.5
-FRONT_TOL_PER_A0 = 0.125
 #: load control: the sub-cell front carries the prescribed mean pressure within this
 #: fraction of the mean |p| (the mask state carries it minus the front's correction)
 LOAD_TOL = 1e-6
@@ -100,13 +97,6 @@ def _nucleation_flaw(op, h, mean_pressure, penetration, a0):
     return np.hypot(dx, dy) <= a0 * (1 + 1e-9)
 
 
-def default_front_tol(front_tol: float | None, a0: float, h: float) -> float:
-    """``front_tol`` as given, or the default for an advance width a0 on cells of size h."""
-    if front_tol is not None:
-        return float(front_tol)
-    return max(FRONT_TOL, FRONT_TOL_PER_A0 * a0 / h)
-
-
 def _check_inputs(cell, penetration, mean_pressure, dgamma, a0, criterion, front_tol):
     control(mean_pressure, penetration)
     dg = np.asarray(dgamma, dtype=float)
@@ -123,7 +113,7 @@ def _check_inputs(cell, penetration, mean_pressure, dgamma, a0, criterion, front
     if criterion not in ("exact", "hybrid", "predictor"):
         raise ValueError(f"criterion = {criterion!r}; allowed: 'exact', 'hybrid', 'predictor'")
     top = max(FRONT_TOL, 0.5 * a0 / hmin)  # the edge stays within half the band
-    if front_tol is not None and not (0.0 < front_tol <= top):
+    if not (0.0 < front_tol <= top):
         raise ValueError(f"front_tol = {front_tol!r} cells is outside the allowed range "
                          f"(0, {top:g}] (0.5 cells or half of a0 = {a0 / hmin:g} cells)")
     return dg
@@ -135,7 +125,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
                    front_smoothing: float | None = None,
                    smoothing_per_radius: float = SMOOTHING_PER_RADIUS,
                    rtol: float = 1e-10, observables: dict | None = None,
-                   criterion: str = "exact", front_tol: float | None = None,
+                   criterion: str = "exact", front_tol: float = FRONT_TOL,
                    flaw_radius: float | None = None, progress=None,
                    coarse_start: bool = False) -> AdhesiveState:
     """Adhesive equilibrium under penetration or mean-pressure control.
@@ -169,8 +159,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     command line's progress bar).
 
     ``front_tol``: tolerance of the balance in position, cells beyond the half cell the mask
-    edge stands for (None: max(0.5, a0/(8h)), :func:`default_front_tol`; at most
-    max(0.5, a0/(2h))).
+    edge stands for (at most max(0.5, a0/(2h))).
 
     Status: ``partial`` only when every resolved front cell is balanced within ``front_tol``
     cells (front.balance_residual) and no pin holds a crack tip beyond the glassy bound
@@ -188,8 +177,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     test_kw = dict(rtol=rtol, vhat=sliding_direction(op), front_smoothing=front_smoothing,
                    smoothing_per_radius=smoothing_per_radius, observables=observables)
     run = _FrontIteration(op, h, dgamma, a0, penetration, mean_pressure, mask0, test_kw,
-                          criterion, default_front_tol(front_tol, a0, min(cell.hx, cell.hy)),
-                          flaw_radius)
+                          criterion, front_tol, flaw_radius)
     return run.solve(max_outer, progress)
 
 

@@ -34,8 +34,8 @@ A0_OVER_CUTOFF = 0.1
 #: a0 over the small patches' diameter (dataset ``small_patch_diameter``) above which a
 #: warning is given after the solve
 A0_OVER_PATCH = 0.1
-#: a0 in cells above which an elastic 2D adhesive scene is warned: a0 is numerical there and
-#: the answer moves with it (docs/theory.md, known limits)
+#: a0 in cells above which an elastic 2D adhesive scene is warned: a0 is numerical there, the
+#: answer moves with it and the front may wander (docs/theory.md, known limits)
 A0_CELLS_ELASTIC = 4.0
 
 __all__ = ["scene_warnings", "state_warnings", "PlausibilityWarning"]
@@ -90,8 +90,9 @@ def _a0_cells_elastic(scene) -> list[str]:
     return [f"adhesion.a0: {scene.a0:.4g} m spans {cells:.3g} cells in an elastic scene "
             f"(warned above {A0_CELLS_ELASTIC:g}): a0 is numerical here and the answer moves "
             "with it (the rough case of docs/rough_convergence.md: 4 % less area at 4 cells "
-            "than at one, 6 % at 8 cells), and a wide band converges slowly; one cell is the "
-            "most accurate (docs/theory.md)"]
+            "than at one, 6 % at 8 cells), and the front may wander without converging "
+            "(solver.front_tol = a0/(8h) converges there); one cell is the most accurate "
+            "(docs/theory.md)"]
 
 
 def _table_coverage(scene) -> list[str]:

@@ -154,8 +154,9 @@ SECTIONS = {
                                    default=0.23),
         "front_tol": _k("number", "tolerance of the edge balance in position: every resolved "
                         "front cell's balanced edge within ½ + front_tol cells of the mask "
-                        "edge (default max(0.5, a0/(8h)); at most max(0.5, a0/(2h)))",
-                        "cells", 0, 100, True, default=None),
+                        "edge (at most max(0.5, a0/(2h)); larger than 0.5 converges faster "
+                        "where a0 spans many cells, less accurately, docs/theory.md)",
+                        "cells", 0, 100, True, default=0.5),
         "criterion": _k("string", "front criterion of adhesive scenes: exact layer tests, the "
                         "zero-solve predictor then exact tests (hybrid), or the predictor "
                         "alone (predictor; less accurate, see docs/performance.md)",

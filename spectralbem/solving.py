@@ -197,7 +197,7 @@ def _grid_state(scene: Scene, op: SpectralOperator, mask0=None, progress=None,
                           mask0=mask0, rtol=solver["tol"], observables=observables,
                           max_outer=solver["max_outer"], **_smoothing(scene),
                           criterion=solver.get("criterion", "exact"),
-                          front_tol=solver.get("front_tol"),
+                          front_tol=solver.get("front_tol", 0.5),
                           flaw_radius=scene.flaw_radius, progress=progress,
                           coarse_start=solver.get("coarse_start", False))
 

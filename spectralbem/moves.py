@@ -77,7 +77,7 @@ def moves(tests, mask, s_out, s_in, w, pinned, hmin, wide=None, tol=0.0):
 
 
 #: times a cell's stale pin may be released (:func:`stale_pins`)
-PIN_RELEASES = 3
+PIN_RELEASES = 1
 
 
 def stale_pins(tests, mask, s_out, s_in, w, pinned, hmin):

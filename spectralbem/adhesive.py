@@ -43,6 +43,7 @@ from .front import (
     resolved_front,
     unresolved_patches,
 )
+from .keys import FRONT_TOL, front_tol_max
 from .masked import TRUE_RESIDUAL_MARGIN, solve_masked, solve_packed
 from .moves import (
     OSCILLATION_FLIPS,
@@ -66,11 +67,6 @@ from .spectral import SpectralOperator
 from .state import AdhesiveState
 from .surfaces import check_heights
 
-#: default tolerance of the balance in position (cells): a resolved front point is balanced
-#: when its balanced edge lies within ½ h + FRONT_TOL·h of the mask edge, one cell by default
-#: (the resolution of the mask); larger values, up to half the band, converge faster where a0
-#: spans many cells and cost accuracy in G (docs/theory.md, the 2D criterion, "Convergence")
-FRONT_TOL = 0.5
 #: load control: the sub-cell front carries the prescribed mean pressure within this
 #: fraction of the mean |p| (the mask state carries it minus the front's correction)
 LOAD_TOL = 1e-6
@@ -112,7 +108,7 @@ def _check_inputs(cell, penetration, mean_pressure, dgamma, a0, criterion, front
                          "m (one cell to half the cell)")
     if criterion not in ("exact", "hybrid", "predictor"):
         raise ValueError(f"criterion = {criterion!r}; allowed: 'exact', 'hybrid', 'predictor'")
-    top = max(FRONT_TOL, 0.5 * a0 / hmin)  # the edge stays within half the band
+    top = front_tol_max(a0 / hmin)
     if not (0.0 < front_tol <= top):
         raise ValueError(f"front_tol = {front_tol!r} cells is outside the allowed range "
                          f"(0, {top:g}] (0.5 cells or half of a0 = {a0 / hmin:g} cells)")

@@ -70,7 +70,7 @@ def at_front(tests, offset_out, base: dict, a0: float) -> dict:
     return out
 
 
-def _neighbour_mean(field_: np.ndarray, where: np.ndarray, at: np.ndarray) -> np.ndarray:
+def neighbour_mean(field_: np.ndarray, where: np.ndarray, at: np.ndarray) -> np.ndarray:
     """Mean of ``field_`` over the 4-neighbours (periodic) where ``where`` holds and the
     field is finite, at the flat indices ``at`` (nan where there is none)."""
     nx, ny = field_.shape
@@ -88,6 +88,14 @@ def _neighbour_mean(field_: np.ndarray, where: np.ndarray, at: np.ndarray) -> np
         return np.where(c > 0, s / c, np.nan)
 
 
+def mean_width(own, other, a0):
+    """The mean of a front cell's band width and its neighbours' (a0 where neither is
+    known, the known one where one is)."""
+    w = np.where(np.isfinite(own) & np.isfinite(other), 0.5 * (own + other),
+                 np.where(np.isfinite(own), own, other))
+    return np.where(np.isfinite(w), w, a0)
+
+
 def rate_at_edge(tests, offset_out, a0: float) -> np.ndarray:
     """δL_P/δA at the balanced sub-cell edge of each outer front cell (nan elsewhere): the
     closing band's rate, whose band starts at the mask edge x_b, and the opening band's (the
@@ -101,14 +109,12 @@ def rate_at_edge(tests, offset_out, a0: float) -> np.ndarray:
     if tests.dLP_rate_in is None:
         return rate
     io = np.flatnonzero(b.outer_front)
-    ro = _neighbour_mean(tests.dLP_rate_in, b.inner_front, io)
+    ro = neighbour_mean(tests.dLP_rate_in, b.inner_front, io)
     s = np.clip(offset_out.ravel()[io], -a0, a0)
     w = np.full(io.size, a0)
     if tests.width_out is not None:
-        wo = tests.width_out.ravel()[io]
-        wi = _neighbour_mean(tests.width_in, b.inner_front, io)
-        w = np.where(np.isfinite(wo) & np.isfinite(wi), 0.5 * (wo + wi),
-                     np.where(np.isfinite(wo), wo, np.where(np.isfinite(wi), wi, a0)))
+        w = mean_width(tests.width_out.ravel()[io],
+                       neighbour_mean(tests.width_in, b.inner_front, io), a0)
     rc = rate.ravel()[io]
     t = (w + s) / w  # 1 at the closing band's start, 0 at the opening band's
     rate.ravel()[io] = np.where(np.isfinite(ro) & np.isfinite(s), ro + (rc - ro) * t, rc)

@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 __all__ = ["Key", "key", "REQUIRED", "LENGTH", "HEIGHT", "MODULUS", "TIME", "STIFFENING",
-           "TOL_MIN"]
+           "TOL_MIN", "FRONT_TOL", "front_tol_max"]
 
 class _Required:
     """The default of a required key (a sentinel with a stable name)."""
@@ -74,3 +74,16 @@ TIME = (1e-12, 1e12)  # s
 STIFFENING = 1e8
 #: the smallest relative tolerance of the solves that double precision can reach
 TOL_MIN = 1e-14
+
+#: default tolerance of the adhesive front's balance in position (cells): a resolved front
+#: point is balanced when its balanced edge lies within ½ h + front_tol·h of the mask edge,
+#: one cell by default (the resolution of the mask); larger values, up to
+#: :func:`front_tol_max`, converge faster where a0 spans many cells and cost accuracy in G
+#: (docs/theory.md, the 2D criterion, "Convergence")
+FRONT_TOL = 0.5
+
+
+def front_tol_max(a0_cells: float) -> float:
+    """The largest front_tol (cells) for a band of a0 = ``a0_cells`` cells: the edge stays
+    within half the band (at least :data:`FRONT_TOL`)."""
+    return max(FRONT_TOL, 0.5 * a0_cells)

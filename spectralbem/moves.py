@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .front import _neighbour_mean, sharp_crack_offset, sub_cell_offset, touching
+from .front import mean_width, neighbour_mean, sharp_crack_offset, sub_cell_offset, touching
 
 __all__ = ["offsets", "moves", "stale_pins", "overloaded_pins", "held_offsets", "crack_tips",
            "release_out_of_bounds", "release_bound", "unverified_pins", "blocked",
@@ -36,19 +36,11 @@ def offsets(F_close, F_open, outer, inner, a0, sharp=False, widths=None):
     w_out = w_in = a0
     if widths is not None and widths[0] is not None:
         wo, wi = widths
-        w_out = _mean_width(wo.ravel()[io], _neighbour_mean(wi, inner, io), a0)
-        w_in = _mean_width(wi.ravel()[ii], _neighbour_mean(wo, outer, ii), a0)
-    s_out.ravel()[io] = offset(F_close.ravel()[io], _neighbour_mean(F_open, inner, io), w_out)
-    s_in.ravel()[ii] = offset(_neighbour_mean(F_close, outer, ii), F_open.ravel()[ii], w_in)
+        w_out = mean_width(wo.ravel()[io], neighbour_mean(wi, inner, io), a0)
+        w_in = mean_width(wi.ravel()[ii], neighbour_mean(wo, outer, ii), a0)
+    s_out.ravel()[io] = offset(F_close.ravel()[io], neighbour_mean(F_open, inner, io), w_out)
+    s_in.ravel()[ii] = offset(neighbour_mean(F_close, outer, ii), F_open.ravel()[ii], w_in)
     return s_out, s_in
-
-
-def _mean_width(own, other, a0):
-    """The mean of a front cell's band width and its neighbours' (a0 where neither is
-    known, the known one where one is)."""
-    w = np.where(np.isfinite(own) & np.isfinite(other), 0.5 * (own + other),
-                 np.where(np.isfinite(own), own, other))
-    return np.where(np.isfinite(w), w, a0)
 
 
 def moves(tests, mask, s_out, s_in, w, pinned, hmin, wide=None, tol=0.0):

@@ -21,6 +21,7 @@ import math
 import re
 
 from .keys import (  # noqa: F401 (re-exported: the schema's vocabulary)
+    FRONT_TOL,
     HEIGHT,
     LENGTH,
     MODULUS,
@@ -29,6 +30,7 @@ from .keys import (  # noqa: F401 (re-exported: the schema's vocabulary)
     TIME,
     TOL_MIN,
     Key,
+    front_tol_max,
 )
 from .keys import key as _k
 from .units import quantity
@@ -156,7 +158,7 @@ SECTIONS = {
                         "front cell's balanced edge within ½ + front_tol cells of the mask "
                         "edge (at most max(0.5, a0/(2h)); larger than 0.5 converges faster "
                         "where a0 spans many cells, less accurately, docs/theory.md)",
-                        "cells", 0, 100, True, default=0.5),
+                        "cells", 0, 100, True, default=FRONT_TOL),
         "criterion": _k("string", "front criterion of adhesive scenes: exact layer tests, the "
                         "zero-solve predictor then exact tests (hybrid), or the predictor "
                         "alone (predictor; less accurate, see docs/performance.md)",
@@ -400,7 +402,7 @@ def _check_front_tol(out, a0_cells: float, problems) -> None:
     """solver.front_tol within (0, max(0.5, a0/(2h))]: the edge within half the band
     (adhesive.solve_adhesive)."""
     ft = (out.get("solver") or {}).get("front_tol")
-    top = max(0.5, 0.5 * a0_cells)
+    top = front_tol_max(a0_cells)
     if ft is not None and ft > top:
         problems.append(f"solver.front_tol: {ft!r} cells is larger than half of a0 "
                         f"({a0_cells:.4g} cells); allowed (0, {top:.4g}]")

@@ -19,6 +19,7 @@ from . import __version__
 from .contact import sliding_direction
 from .io import FIELDS, SCALARS, cf_attributes
 from .io import attrs as _attrs
+from .keys import FRONT_TOL
 from .results import (
     edges_y_invariant,
     friction_observables,
@@ -197,7 +198,7 @@ def _grid_state(scene: Scene, op: SpectralOperator, mask0=None, progress=None,
                           mask0=mask0, rtol=solver["tol"], observables=observables,
                           max_outer=solver["max_outer"], **_smoothing(scene),
                           criterion=solver.get("criterion", "exact"),
-                          front_tol=solver.get("front_tol", 0.5),
+                          front_tol=solver.get("front_tol", FRONT_TOL),
                           flaw_radius=scene.flaw_radius, progress=progress,
                           coarse_start=solver.get("coarse_start", False))
 

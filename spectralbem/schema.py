@@ -394,8 +394,6 @@ def _check_seed(out, problems):
             if a0 < hc * (1 - 1e-9):
                 problems.append(f"sinusoid.a0_tilde: {a0!r} is smaller than one cell "
                                 f"({hc:.4g}) of the grid model; allowed [{hc:.4g}, 1]")
-            else:
-                _check_front_tol(out, a0 / hc, problems)
 
 
 def _check_front_tol(out, a0_cells: float, problems) -> None:

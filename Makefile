@@ -41,6 +41,7 @@ bench: $(STAMP)
 	$(BIN)/python bench/scaling.py
 	$(BIN)/python bench/sphere.py 512 default 6
 	$(BIN)/python bench/accuracy.py
+	$(BIN)/python bench/relaxation_length.py
 	$(BIN)/python bench/sweep2d.py
 	$(BIN)/python bench/sweep2d.py --rough 512
 	$(BIN)/python bench/oned.py

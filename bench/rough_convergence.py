@@ -87,6 +87,7 @@ def run_one(n: int, material: str, a0: float, sigma: float | None,
         # μ's other forms (JSON only): the profile force on the mask, and −Σ p v̂·∇u
         row.update(mu_profile=float(st["mu_profile"]), mu_dissipation=float(st["mu_dissipation"]))
         row.update(status=str(st["status"].values), iterations=int(st["iterations"]),
+                   substeps=int(st["substeps"]) if "substeps" in st else 1,
                    balanced_fraction=float(st["balanced_fraction"]),
                    mean_pressure=float(st["mean_pressure"]),
                    unresolved_patches=int(st["unresolved_patches"]),
@@ -426,7 +427,13 @@ def main(argv=None):
                     print(f"{mat} N={n} a0={a0:g}: areas "
                           f"{[round(x['area_fraction'], 4) for x in s]} statuses "
                           f"{[x['status'] for x in s]} cpu {r['cpu']:.0f} s", flush=True)
-    report(runs, ROOT / "docs" / "rough_convergence.md", scans)
+    # the documentation's page only from the repository's own JSON; another --out gets its
+    # report beside it (OUT.md, figures/), so a side run never overwrites the page
+    default = args.out.resolve() == Path(__file__).with_name("rough_convergence.json").resolve()
+    page = ROOT / "docs" / "rough_convergence.md" if default else args.out.with_suffix(".md")
+    if not default:
+        (page.parent / "figures").mkdir(exist_ok=True)
+    report(runs, page, scans)
 
 
 if __name__ == "__main__":

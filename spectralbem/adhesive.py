@@ -381,8 +381,13 @@ class _FrontIteration:
         if not tests.converged:
             self.message = "layer test: " + tests.message
             return None
+        widths = (tests.width_out, tests.width_in)
         s_out, s_in = offsets(tests.F_close, tests.F_open, outer, inner, a0, self.shift > 0,
-                              (tests.width_out, tests.width_in))
+                              widths)
+        # viscoelastic scenes: the mask moves by the square-root field's edge, which moves by
+        # the mask's displacement where the linear fit over-corrects (docs/theory.md)
+        m_out, m_in = (s_out, s_in) if self.shift > 0 else offsets(
+            tests.F_close, tests.F_open, outer, inner, a0, False, widths, field=True)
         pinned = self.pinned
         stale = None
         if self.criterion != "predictor" and self.p.mean() > 0 and pinned.any():
@@ -398,7 +403,8 @@ class _FrontIteration:
         # (unverified_pins)
         stuck = pinned & ~blk & inner & (s_in == -np.inf)
         s_out, s_in = held_offsets(s_out, s_in, outer, inner & held)
-        add, remove = moves(tests, mask, s_out, s_in, w, pinned, hmin, self.wide,
+        self.m_out, self.m_in = held_offsets(m_out, m_in, outer, inner & held)
+        add, remove = moves(tests, mask, self.m_out, self.m_in, w, pinned, hmin, self.wide,
                             self.front_tol)
         cell = op.cell
         res_out, res_in = resolved_front(mask, outer, inner, a0, (cell.hx, cell.hy))
@@ -462,7 +468,7 @@ class _FrontIteration:
             osc = self.osc
             self.wide = osc.flips >= min(OSCILLATION_FLIPS, int(osc.flips.max()))
             self.osc = Oscillation(self.op.cell.shape)
-            add, remove = moves(self.tests, mask, self.s_out, self.s_in, w, self.pinned,
+            add, remove = moves(self.tests, mask, self.m_out, self.m_in, w, self.pinned,
                                 self.hmin, self.wide, front_tol)
             reason = self.osc.step(mask, add | remove) if (add.any() or remove.any()) else ""
         if reason or self.it == self.max_outer:

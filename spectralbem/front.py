@@ -1,7 +1,7 @@
 """The balanced sub-cell front of an adhesive state: its offsets from the mask edge
-(:func:`sub_cell_offset`, :func:`sharp_crack_offset`), its patches (:func:`patch_labels`,
-:func:`resolved_front`), the residual of its balance (:func:`balance_residual`) and the
-outputs integrated over it.
+(:func:`sub_cell_offset`, :func:`band_crack_offset`, :func:`sharp_crack_offset`), its
+patches (:func:`patch_labels`, :func:`resolved_front`), the residual of its balance
+(:func:`balance_residual`) and the outputs integrated over it.
 
 The mask of :func:`spectralbem.adhesive.solve_adhesive` holds the front to the nearest cell
 boundary; the balanced edge of each outer front cell lies ``offset_out`` beyond it (m).  The
@@ -228,6 +228,36 @@ def sharp_crack_offset(F_close, F_open, a0: float):
         u = np.sqrt(0.5 * (m + np.sqrt(np.maximum(m * m - 4.0 * d * d / 3.0, 0.0))))
         s_k = a0 * (1.0 - u) * u / d
     return np.where(fit, s_k, sub_cell_offset(Fc, Fo, a0) + 0.5 * a0)
+
+
+def band_crack_offset(F_close, F_open, a0: float):
+    """Offset from x_b of the seed's balanced edge l* (Eq. (3): the band [l*, l* + a0]
+    releases Δγ a0) fitted by a square-root field: where a viscoelastic mask moves.
+
+    The band means g = 1 + F of the closing band [0, a0] and the opening band [−a0, 0] are
+    fitted, as in :func:`sharp_crack_offset`, by the mean of k² with k = u + v s/a0 linear in
+    the position (the release rate is quadratic in a stress-intensity factor that varies
+    smoothly with the edge); l* is where the band mean over [l*, l* + a0] is 1:
+    k(l*)² + k(l*) v + v²/3 = 1, k(l*) = (√(4 − v²/3) − v)/2, l* = a0 (k(l*) − u)/v.  At
+    the balance it agrees with the linear fit (:func:`sub_cell_offset`); away from it the
+    two differ at first order in the offset.  On the rough viscoelastic case a mask one cell
+    outside its balanced edge is sent 1.33 cells back by the linear fit and 1.12 by this
+    one, so the mask follows this edge (fewer cells flip back and forth); the reported edge
+    and the balance stay the linear fit's, which the sinusoid validates against the 1D
+    method (docs/theory.md).  Where no such field fits (band means not non-negative and
+    increasing outward, or a field so steep that no band has mean 1, |v| ≥ 2√3) the linear
+    fit is used."""
+    Fc, Fo = np.asarray(F_close, float), np.asarray(F_open, float)
+    gc, go = 1.0 + Fc, 1.0 + Fo
+    with np.errstate(divide="ignore", invalid="ignore"):
+        m, d = 0.5 * (gc + go), 0.5 * (gc - go)
+        u = np.sqrt(0.5 * (m + np.sqrt(np.maximum(m * m - 4.0 * d * d / 3.0, 0.0))))
+        v = d / u
+        k_edge = 0.5 * (np.sqrt(np.maximum(4.0 - v * v / 3.0, 0.0)) - v)
+        s_k = a0 * (k_edge - u) / v
+    # a field as steep as |v| ≥ 2√3 has no band of mean 1 (its least band mean is v²/12)
+    fit = (gc > go) & (go >= 0.0) & (v * v < 12.0) & np.isfinite(s_k)
+    return np.where(fit, s_k, sub_cell_offset(Fc, Fo, a0))
 
 
 def patch_labels(mask: np.ndarray, a0: float, spacing):

@@ -59,6 +59,9 @@ SCALARS = {
     "front_residual": ("1", "front residual (cells)",
                        "largest balance residual of the front in position"),
     "front_length": ("m", "front length", "of the balanced front of the resolved patches"),
+    "substeps": ("1", "path sub-steps",
+                 "equal steps of the control from the previous path state that reached this "
+                 "one (1: the direct step; more after a direct step did not converge)"),
 }
 FIELDS = {
     "heights": ("m", "height h", "rigid profile height toward the slab"),
@@ -93,7 +96,7 @@ STATUS_MEANING = {
 
 
 #: result variables that count things: stored as integers where every value is finite
-COUNTS = ("iterations", "solves", "unresolved_patches")
+COUNTS = ("iterations", "solves", "unresolved_patches", "substeps")
 
 
 def cf_attributes(ds: xr.Dataset, history: str | None = None) -> xr.Dataset:

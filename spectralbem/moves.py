@@ -8,7 +8,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from .front import mean_width, neighbour_mean, sharp_crack_offset, sub_cell_offset, touching
+from .front import (
+    band_crack_offset,
+    mean_width,
+    neighbour_mean,
+    sharp_crack_offset,
+    sub_cell_offset,
+    touching,
+)
 
 __all__ = ["offsets", "moves", "stale_pins", "overloaded_pins", "held_offsets", "crack_tips",
            "release_out_of_bounds", "release_bound", "unverified_pins", "blocked",
@@ -21,15 +28,18 @@ OSCILLATION_FLIPS = 3
 OSCILLATION_RUN = 6
 
 
-def offsets(F_close, F_open, outer, inner, a0, sharp=False, widths=None):
+def offsets(F_close, F_open, outer, inner, a0, sharp=False, widths=None, field=False):
     """Sub-cell offsets of the balanced edge on the outer front cells (closing test there,
     opening tests of the neighbouring inner cells) and on the inner front cells (the other
     way round); nan elsewhere.  ``sharp``: the sharp-crack edge of an elastic scene
-    (front.sharp_crack_offset), else the seed's edge (front.sub_cell_offset).  ``widths``:
+    (front.sharp_crack_offset), else the seed's edge by the linear fit of the band means
+    (front.sub_cell_offset) or, with ``field``, by the fit of a square-root field
+    (front.band_crack_offset: the viscoelastic mask's moves).  ``widths``:
     (outer, inner) effective band widths (along_front.band_widths; None, or a pair of None
     from the predictor: a0): the band means are interpolated over the mean of the two bands'
     widths (a0 where none is known)."""
-    offset = sharp_crack_offset if sharp else sub_cell_offset
+    offset = (sharp_crack_offset if sharp else band_crack_offset if field
+              else sub_cell_offset)
     s_out = np.full(F_close.shape, np.nan)
     s_in = np.full(F_close.shape, np.nan)
     io, ii = np.flatnonzero(outer), np.flatnonzero(inner)

@@ -38,6 +38,11 @@ A0_OVER_PATCH = 0.1
 #: answer moves with it and the front may wander (docs/theory.md, known limits)
 A0_CELLS_ELASTIC = 4.0
 
+#: cells per relaxation length vτ below which a viscoelastic (SLS) 2D adhesive scene is
+#: warned: the y-invariant sinusoid against the 1D method (bench/relaxation_length.py,
+#: docs/performance.md) has its adhesive friction within 5 % from 2.5 cells on, 2 % from 4
+VTAU_CELLS = 2.5
+
 __all__ = ["scene_warnings", "state_warnings", "PlausibilityWarning"]
 
 
@@ -76,7 +81,26 @@ def scene_warnings(scene) -> list[str]:
     out += _table_coverage(scene)
     out += _a0_against_cutoff(scene)
     out += _a0_cells_elastic(scene)
+    out += _relaxation_length(scene)
     return out
+
+
+def _relaxation_length(scene) -> list[str]:
+    """A sliding SLS 2D adhesive scene whose relaxation length vτ spans few cells (the
+    creep time τ of Eq. (14); a Prony series or a table has no single τ and is not
+    checked)."""
+    tau = getattr(scene.material, "tau", None)
+    speed = float(np.hypot(*scene.velocity))
+    if not scene.adhesive or scene.model != "grid2d" or tau is None or speed == 0.0:
+        return []
+    cells = speed * tau / max(scene.cell.hx, scene.cell.hy)
+    if cells >= VTAU_CELLS:
+        return []
+    return [f"motion.speed: the relaxation length vτ = {speed * tau:.4g} m is {cells:.3g} "
+            f"cells long (warned below {VTAU_CELLS:g}): the trailing edge's G2 and the adhesive "
+            "friction μ_a are resolved within 5 % only from 2.5 cells per vτ on, 2 % from 4 "
+            "(the sinusoid against the 1D method, docs/performance.md, \"Resolving the "
+            "relaxation length\"); refine the grid"]
 
 
 def _a0_cells_elastic(scene) -> list[str]:

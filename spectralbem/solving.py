@@ -381,6 +381,60 @@ def _solve_one(scene: Scene, state, progress=None):
     return ds, (mask if scene.adhesive and mask.any() and not mask.all() else None)
 
 
+#: load-path sub-steps: a step of an adhesive grid path that ends not_converged from a
+#: verified partial state is solved again from that state by halving the step of the control
+#: where it fails, at most this many times (steps down to 1/2**SUBSTEP_HALVINGS of the
+#: jump; docs/theory.md, adhesive 2D criterion)
+SUBSTEP_HALVINGS = 3
+
+
+def _status(ds) -> str:
+    return str(ds["status"].values) if "status" in ds else ""
+
+
+def _substep(scene: Scene, ds, carried, prev, v) -> bool:
+    """Whether the path step to ``v`` is to be retried in sub-steps: an adhesive grid scene
+    whose step ended not_converged from the verified partial state at ``prev``."""
+    return (scene.model == "grid2d" and scene.adhesive and carried is not None
+            and prev is not None and prev != v and _status(ds) == "not_converged")
+
+
+def _halved(scene: Scene, v0, v1, state, depth: int, progress, first=None):
+    """The states from the partial ``state`` at ``v0`` to the control ``v1``: the direct
+    step (``first`` when already solved), else the two halves, each halved again where it
+    fails, ``depth`` times at most.  Returns (dataset, carried state, number of steps);
+    the dataset of the last step tried when a step fails at the last depth."""
+    ds, s = first or _solve_one(scene.at_step(v1), state, progress)
+    if _status(ds) == "partial" and s is not None:
+        return ds, s, 1
+    if depth == 0:
+        return ds, s, 0
+    mid = 0.5 * (v0 + v1)
+    dm, sm, km = _halved(scene, v0, mid, state, depth - 1, progress)
+    if km == 0:
+        return dm, sm, 0
+    d1, s1, k1 = _halved(scene, mid, v1, sm, depth - 1, progress)
+    return d1, s1, (km + k1 if k1 else 0)
+
+
+def _substepped(scene: Scene, ds, state, carried, prev, v, progress):
+    """The path step prev → v, which ended not_converged, solved again from the carried
+    state by halving it where it fails (``SUBSTEP_HALVINGS``): the last state marked with
+    the number of steps taken, or the direct step's (``ds``, ``state``) when some step
+    fails at the smallest size."""
+    direct = ds.attrs.get("solver_message", "")
+    sub, s, k = _halved(scene, prev, v, carried, SUBSTEP_HALVINGS, progress, (ds, state))
+    if k:
+        sub.attrs["solver_message"] = (
+            f"{sub.attrs.get('solver_message', '')}; reached from {prev:g} in {k} steps of "
+            f"the control (the direct step: {direct})")
+        sub.attrs["_substeps"] = k
+        return sub, s
+    ds.attrs["solver_message"] = (f"{direct}; steps from {prev:g} down to "
+                                  f"1/{2 ** SUBSTEP_HALVINGS} of it did not converge either")
+    return ds, state
+
+
 def solve(scene: Scene, *, mask0=None, progress: bool = False):
     """Solve a scene; returns an xarray Dataset.
 
@@ -413,11 +467,19 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
                 bar = tqdm(desc="front" if scene.adhesive else "contact", unit="it",
                            position=int(len(steps) > 1), leave=False)
                 bars.append(bar)
+        prev = None  # the control value of the last verified partial state
         for v in it:
             if bar is not None:
                 bar.reset()
-            ds, state = _solve_one(scene.at_step(v), state,
-                                   None if bar is None else _bar_progress(bar))
+            show = None if bar is None else _bar_progress(bar)
+            carried = state
+            ds, state = _solve_one(scene.at_step(v), carried, show)
+            if _substep(scene, ds, carried, prev, v):
+                ds, state = _substepped(scene, ds, state, carried, prev, v, show)
+            if scene.model == "grid2d" and scene.adhesive:
+                ds["substeps"] = ((), int(ds.attrs.pop("_substeps", 1)), _attrs(
+                    SCALARS["substeps"]))
+            prev = v if _status(ds) == "partial" else None
             out.append(ds)
     finally:
         for b in reversed(bars):

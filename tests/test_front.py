@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from spectralbem.front import sharp_crack_offset, sub_cell_offset
+from spectralbem.front import band_crack_offset, sharp_crack_offset, sub_cell_offset
 
 A0 = 1.0
 
@@ -47,6 +47,33 @@ def test_sharp_crack_offset_falls_back_to_the_midpoint_rule():
     linear fit of G with the midpoint shift a0/2."""
     for Fc, Fo in ((0.3, -1.2), (-0.5, 0.5), (0.5, 0.7)):
         assert sharp_crack_offset(Fc, Fo, A0) == sub_cell_offset(Fc, Fo, A0) + 0.5 * A0
+
+
+@given(k0=st.floats(0.3, 3.0), ratio=st.floats(0.01, 1.7))
+def test_band_crack_offset_is_the_seed_edge_of_a_linear_stress_intensity(k0, ratio):
+    """K linear over both bands: the edge l* whose band [l*, l* + a0] has mean k² = 1 (the
+    seed's Eq. (3) with G ∝ K²), checked by integrating k² over that band numerically;
+    a field too steep for any band to have mean 1 gets the linear fit."""
+    k1 = ratio * k0
+    Fc, Fo = _band_means(k0, k1)
+    s = band_crack_offset(Fc, Fo, A0)
+    if k1 >= 2 * np.sqrt(3):  # no band has mean 1 (the least is k1²/12): the linear fit
+        assert s == sub_cell_offset(Fc, Fo, A0)
+        return
+    mean = quad(lambda x: (k0 + k1 * x / A0) ** 2, s, s + A0)[0] / A0
+    assert mean == pytest.approx(1.0, abs=1e-9)
+
+
+def test_band_crack_offset_agrees_with_the_linear_fit_at_the_balance():
+    """A balanced closing band (F_close = 0) is the edge for both fits; where no field fits
+    (G not increasing outward, a negative band mean) the linear fit is the answer."""
+    for k0, k1 in ((1.0, 0.3), (1.2, 0.5), (0.9, 0.2)):
+        c = 1.0 / np.sqrt(k0**2 + k0 * k1 + k1**2 / 3)  # the closing band's mean k² = 1
+        Fc, Fo = _band_means(c * k0, c * k1)
+        assert band_crack_offset(Fc, Fo, A0) == pytest.approx(0.0, abs=1e-12)
+        assert sub_cell_offset(Fc, Fo, A0) == pytest.approx(0.0, abs=1e-12)
+    for Fc, Fo in ((0.3, -1.2), (-0.5, 0.5), (0.5, 0.7)):
+        assert band_crack_offset(Fc, Fo, A0) == sub_cell_offset(Fc, Fo, A0)
 
 
 def _jkr_edge(a0, P, offset):

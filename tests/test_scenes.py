@@ -209,6 +209,52 @@ def test_load_path_jkr_sphere():
     np.testing.assert_allclose(a, a_jkr, atol=1.5 * L / n)
 
 
+def test_path_step_that_fails_is_retried_in_sub_steps(monkeypatch):
+    """A path step of an adhesive grid scene that ends not_converged from a partial state is
+    solved again from that state, each failing step halved (solving.SUBSTEP_HALVINGS = 3
+    times at most); the state reached is marked with the number of steps, a failure at the
+    smallest step keeps the direct step's state and says so.  The step solver is a stand-in
+    that converges only for load changes of at most ``limit`` and records its calls."""
+    import xarray as xr
+
+    from spectralbem import solving
+
+    calls = []
+
+    def fake(scene, state, progress=None):
+        p = scene.mean_pressure
+        ok = state is None or abs(p - state) <= limit
+        calls.append(p)
+        ds = xr.Dataset({"status": ((), "partial" if ok else "not_converged"),
+                         "mean_pressure": ((), p)})
+        ds.attrs["solver_message"] = "fake"
+        return ds, p
+
+    monkeypatch.setattr(solving, "_solve_one", fake)
+    raw = {"grid": {"Lx": 1e-3, "Ly": 1e-3, "Nx": 16, "Ny": 16},
+           "surface": {"kind": "paraboloid", "radius": 1e-3},
+           "material": {"kind": "elastic", "E": 1e6},
+           "adhesion": {"dgamma": 0.05, "a0": 1e-4},
+           "control": {"mean_pressure": [1e4, 3e4, 1e4]}}
+    limit = 6e3  # halves of 1e4 fail, quarters of 5e3 converge
+    ds = sb.solve(load_scene(raw))
+    assert list(ds.status.values) == ["partial"] * 3
+    assert list(ds.substeps.values) == [1, 4, 4]
+    assert calls == [1e4,
+                     3e4, 2e4, 1.5e4, 2e4, 3e4, 2.5e4, 3e4,  # direct, 1st half, 2nd half
+                     1e4, 2e4, 2.5e4, 2e4, 1e4, 1.5e4, 1e4]
+    assert "in 4 steps of the control" in str(ds.solver_message.values[2])
+    limit = 3e3  # eighths of 2.5e3 converge
+    assert list(sb.solve(load_scene(raw)).substeps.values) == [1, 8, 8]
+    calls.clear()
+    limit = 1e3  # nothing converges: the direct steps are kept, marked as such
+    ds = sb.solve(load_scene(raw))
+    assert list(ds.status.values) == ["partial", "not_converged", "not_converged"]
+    assert list(ds.substeps.values) == [1, 1, 1]
+    assert "1/8 of it did not converge either" in str(ds.solver_message.values[1])
+    assert calls == [1e4, 3e4, 2e4, 1.5e4, 1.25e4, 1e4]  # no retry after a failed step
+
+
 # reduced resolution for each case: (overrides)
 REDUCED = {
     "rubber_rough": {"grid.Nx": 32, "grid.Ny": 32, "surface.cutoff_wavelength": 1.25e-4},

@@ -404,8 +404,7 @@ class _FrontIteration:
         stuck = pinned & ~blk & inner & (s_in == -np.inf)
         s_out, s_in = held_offsets(s_out, s_in, outer, inner & held)
         self.m_out, self.m_in = held_offsets(m_out, m_in, outer, inner & held)
-        add, remove = moves(tests, mask, self.m_out, self.m_in, w, pinned, hmin, self.wide,
-                            self.front_tol)
+        add, remove = self._moves(w, s_out, s_in)
         cell = op.cell
         res_out, res_in = resolved_front(mask, outer, inner, a0, (cell.hx, cell.hy))
         self.stale = overloaded_pins(stale, self.p, res_in & ~held,
@@ -426,6 +425,20 @@ class _FrontIteration:
         self.rmax = rmax
         self.res_out = res_out
         return add, remove, res_out
+
+    def _moves(self, w, s_out, s_in):
+        """The cells that join and leave the mask (moves.moves): by the square-root fit's
+        edge in a viscoelastic scene, and by the balance's own (linear) edge wherever that
+        lies beyond the acceptance band, so that no cell the balance calls unbalanced is
+        left where it stands (the two fits disagree by a fraction of a cell)."""
+        add, remove = moves(self.tests, self.mask, self.m_out, self.m_in, w, self.pinned,
+                            self.hmin, self.wide, self.front_tol)
+        if self.shift == 0.0:
+            beyond = np.ones(self.mask.shape, bool)
+            a_lin, r_lin = moves(self.tests, self.mask, s_out, s_in, w, self.pinned, self.hmin,
+                                 beyond, self.front_tol)
+            add, remove = add | (a_lin & ~remove), remove | (r_lin & ~add)
+        return add, remove
 
     def _exact_step(self, w, outer, inner) -> str:
         """Test the front, then: converged, a load correction on a balanced mask, the end
@@ -468,8 +481,7 @@ class _FrontIteration:
             osc = self.osc
             self.wide = osc.flips >= min(OSCILLATION_FLIPS, int(osc.flips.max()))
             self.osc = Oscillation(self.op.cell.shape)
-            add, remove = moves(self.tests, mask, self.m_out, self.m_in, w, self.pinned,
-                                self.hmin, self.wide, front_tol)
+            add, remove = self._moves(w, self.s_out, self.s_in)
             reason = self.osc.step(mask, add | remove) if (add.any() or remove.any()) else ""
         if reason or self.it == self.max_outer:
             reason = reason or f"not converged in {self.max_outer} outer iterations"

@@ -242,8 +242,9 @@ def band_crack_offset(F_close, F_open, a0: float):
     the balance it agrees with the linear fit (:func:`sub_cell_offset`); away from it the
     two differ at first order in the offset.  On the rough viscoelastic case a mask one cell
     outside its balanced edge is sent 1.33 cells back by the linear fit and 1.12 by this
-    one, so the mask follows this edge (fewer cells flip back and forth); the reported edge
-    and the balance stay the linear fit's, which the sinusoid validates against the 1D
+    one, so the mask follows this edge (fewer cells flip back and forth; the linear one
+    where that lies beyond the acceptance band); the reported edge and the balance stay the
+    linear fit's, which the sinusoid validates against the 1D
     method (docs/theory.md).  Where no such field fits (band means not non-negative and
     increasing outward, or a field so steep that no band has mean 1, |v| ≥ 2√3) the linear
     fit is used."""

@@ -26,15 +26,14 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from spectralbem import sinusoid1d as s1  # noqa: E402
-from spectralbem.scenes import Scene, solve  # noqa: E402
+from spectralbem.validate import A0, compare  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from run import write_section  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 OUT = ROOT / "bench" / "relaxation_length.json"
-BETA, GAMMA, A0, P_TILDE = 10.0, 0.008, 0.01, 0.15
+P_TILDE = 0.15
 KEYS = ("a_tilde", "G1_over_dgamma", "G2_over_dgamma", "mu_bar", "mu_bar_adhesive")
 #: ζ → cells per wavelength (a0 at least one cell: N ≥ 629)
 PLAN = {0.02: (629, 942, 1257, 2513, 5027),
@@ -42,17 +41,11 @@ PLAN = {0.02: (629, 942, 1257, 2513, 5027),
         0.001: (3000, 5027, 10053, 20106, 31416)}
 
 
-def point(zeta: float, n: int, r1) -> dict:
-    t = time.perf_counter()
-    ds = solve(Scene.sinusoid(zeta, BETA, GAMMA, p_tilde=P_TILDE, a0_tilde=A0,
-                              cells_per_wavelength=n, ny=2))
-    row = {"zeta": zeta, "N": n, "vtau_over_h": zeta * n / (2 * np.pi),
-           "a0_over_h": A0 * n / (2 * np.pi), "status": ds.status.item(),
-           "seconds": time.perf_counter() - t}
-    for k in KEYS:
-        v2, v1 = ds[k].item(), r1[k].item()
-        row[k] = [v2, v1, (v2 - v1) / abs(v1)]
-    return row
+def point(zeta: float, n: int) -> dict:
+    r = compare(zeta, P_TILDE, n=n, keys=KEYS)  # the 2D state against the 1D method
+    return {"zeta": zeta, "N": n, "vtau_over_h": zeta * n / (2 * np.pi),
+            "a0_over_h": A0 * n / (2 * np.pi), "status": r["status"],
+            "seconds": r["time_2d"], **{k: list(r[k]) for k in KEYS}}
 
 
 def report(rows: list) -> None:
@@ -103,10 +96,8 @@ def main(argv=None):
         return
     rows = []
     for z, ns in PLAN.items():
-        r1 = s1.solve(z, BETA, GAMMA, p_tilde=P_TILDE, a0_tilde=A0,
-                      adhesiveless_reference=False)
         for n in ns:
-            r = point(z, n, r1)
+            r = point(z, n)
             rows.append(r)
             OUT.write_text(json.dumps(rows, indent=1))  # every finished point is kept
             print(f"ζ {z:g} N {n:6d} vτ/h {r['vtau_over_h']:5.2f} {r['status']:13s} "

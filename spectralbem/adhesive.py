@@ -241,6 +241,7 @@ class _FrontIteration:
         self.loose = loose_band_rtol(test_kw["rtol"]) > test_kw["rtol"]
         self.s_out = self.s_in = np.full(cell.shape, np.nan)
         self.res_out = self.held = self.outer = None
+        self.moves_to = None  # viscoelastic: (outer, inner) offsets the mask moves by
         self.frac, self.rmax = float("nan"), float("nan")
         self.it = 0
 
@@ -384,10 +385,6 @@ class _FrontIteration:
         widths = (tests.width_out, tests.width_in)
         s_out, s_in = offsets(tests.F_close, tests.F_open, outer, inner, a0, self.shift > 0,
                               widths)
-        # viscoelastic scenes: the mask moves by the square-root field's edge, which moves by
-        # the mask's displacement where the linear fit over-corrects (docs/theory.md)
-        m_out, m_in = (s_out, s_in) if self.shift > 0 else offsets(
-            tests.F_close, tests.F_open, outer, inner, a0, False, widths, field=True)
         pinned = self.pinned
         stale = None
         if self.criterion != "predictor" and self.p.mean() > 0 and pinned.any():
@@ -403,7 +400,11 @@ class _FrontIteration:
         # (unverified_pins)
         stuck = pinned & ~blk & inner & (s_in == -np.inf)
         s_out, s_in = held_offsets(s_out, s_in, outer, inner & held)
-        self.m_out, self.m_in = held_offsets(m_out, m_in, outer, inner & held)
+        self.moves_to = None
+        if self.shift == 0.0:  # viscoelastic: the mask moves by the square-root fit's edge
+            self.moves_to = held_offsets(*offsets(tests.F_close, tests.F_open, outer, inner,
+                                                  a0, False, widths, field=True),
+                                         outer, inner & held)
         add, remove = self._moves(w, s_out, s_in)
         cell = op.cell
         res_out, res_in = resolved_front(mask, outer, inner, a0, (cell.hx, cell.hy))
@@ -427,18 +428,20 @@ class _FrontIteration:
         return add, remove, res_out
 
     def _moves(self, w, s_out, s_in):
-        """The cells that join and leave the mask (moves.moves): by the square-root fit's
-        edge in a viscoelastic scene, and by the balance's own (linear) edge wherever that
-        lies beyond the acceptance band, so that no cell the balance calls unbalanced is
-        left where it stands (the two fits disagree by a fraction of a cell)."""
-        add, remove = moves(self.tests, self.mask, self.m_out, self.m_in, w, self.pinned,
-                            self.hmin, self.wide, self.front_tol)
-        if self.shift == 0.0:
-            beyond = np.ones(self.mask.shape, bool)
-            a_lin, r_lin = moves(self.tests, self.mask, s_out, s_in, w, self.pinned, self.hmin,
-                                 beyond, self.front_tol)
-            add, remove = add | (a_lin & ~remove), remove | (r_lin & ~add)
-        return add, remove
+        """The cells that join and leave the mask (moves.moves) by the balance's edge
+        (``s_out``, ``s_in``); in a viscoelastic scene by the square-root fit's edge
+        (``moves_to``, docs/theory.md), and by the balance's own wherever that lies beyond
+        the acceptance band, so that no cell the balance calls unbalanced is left where it
+        stands (the two fits disagree by a fraction of a cell)."""
+        if self.moves_to is None:
+            return moves(self.tests, self.mask, s_out, s_in, w, self.pinned, self.hmin,
+                         self.wide, self.front_tol)
+        add, remove = moves(self.tests, self.mask, *self.moves_to, w, self.pinned, self.hmin,
+                            self.wide, self.front_tol)
+        beyond = np.ones(self.mask.shape, bool)
+        a_lin, r_lin = moves(self.tests, self.mask, s_out, s_in, w, self.pinned, self.hmin,
+                             beyond, self.front_tol)
+        return add | (a_lin & ~remove), remove | (r_lin & ~add)
 
     def _exact_step(self, w, outer, inner) -> str:
         """Test the front, then: converged, a load correction on a balanced mask, the end

@@ -419,20 +419,19 @@ def _halved(scene: Scene, v0, v1, state, depth: int, progress, first=None):
 
 def _substepped(scene: Scene, ds, state, carried, prev, v, progress):
     """The path step prev → v, which ended not_converged, solved again from the carried
-    state by halving it where it fails (``SUBSTEP_HALVINGS``): the last state marked with
-    the number of steps taken, or the direct step's (``ds``, ``state``) when some step
-    fails at the smallest size."""
+    state by halving it where it fails (``SUBSTEP_HALVINGS``): (dataset, state, number of
+    steps taken) of the last step, or the direct step's (``ds``, ``state``, 1) when some
+    step fails at the smallest size."""
     direct = ds.attrs.get("solver_message", "")
     sub, s, k = _halved(scene, prev, v, carried, SUBSTEP_HALVINGS, progress, (ds, state))
     if k:
         sub.attrs["solver_message"] = (
             f"{sub.attrs.get('solver_message', '')}; reached from {prev:g} in {k} steps of "
             f"the control (the direct step: {direct})")
-        sub.attrs["_substeps"] = k
-        return sub, s
+        return sub, s, k
     ds.attrs["solver_message"] = (f"{direct}; steps from {prev:g} down to "
                                   f"1/{2 ** SUBSTEP_HALVINGS} of it did not converge either")
-    return ds, state
+    return ds, state, 1
 
 
 def solve(scene: Scene, *, mask0=None, progress: bool = False):
@@ -474,11 +473,11 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
             show = None if bar is None else _bar_progress(bar)
             carried = state
             ds, state = _solve_one(scene.at_step(v), carried, show)
+            k = 1
             if _substep(scene, ds, carried, prev, v):
-                ds, state = _substepped(scene, ds, state, carried, prev, v, show)
+                ds, state, k = _substepped(scene, ds, state, carried, prev, v, show)
             if scene.model == "grid2d" and scene.adhesive:
-                ds["substeps"] = ((), int(ds.attrs.pop("_substeps", 1)), _attrs(
-                    SCALARS["substeps"]))
+                ds["substeps"] = ((), k, _attrs(SCALARS["substeps"]))
             prev = v if _status(ds) == "partial" else None
             out.append(ds)
     finally:

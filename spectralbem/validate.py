@@ -37,7 +37,10 @@ def cells_for(zeta: float) -> int:
     return int(round(m * lam / A0))
 
 
-def compare(zeta, p_tilde, direction_deg=0.0, ny=2, n=None):
+def compare(zeta, p_tilde, direction_deg=0.0, ny=2, n=None, keys=KEYS):
+    """The seed sinusoid on the 2D grid (n cells per wavelength, default :func:`cells_for`)
+    against the 1D method at the same a0: per name of ``keys`` (2D, 1D, relative
+    difference; ẽ relative to ã)."""
     n = n or cells_for(zeta * np.cos(np.radians(direction_deg)))
     t = time.perf_counter()
     ds = solve(Scene.sinusoid(zeta, BETA, GAMMA, p_tilde=p_tilde, a0_tilde=A0,
@@ -48,7 +51,7 @@ def compare(zeta, p_tilde, direction_deg=0.0, ny=2, n=None):
                    a0_tilde=a0e, adhesiveless_reference=False)
     row = {"zeta": zeta, "p_tilde": p_tilde, "N": n, "a0_eff": a0e, "time_2d": t2,
            "status": ds.status.item()}
-    for k in KEYS:
+    for k in keys:
         v2, v1 = ds[k].item(), ref[k].item()
         if k == "mu_bar":
             v2 /= np.cos(np.radians(direction_deg)) if direction_deg else 1.0

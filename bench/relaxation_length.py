@@ -19,6 +19,7 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
 import argparse  # noqa: E402
+import itertools  # noqa: E402
 import json  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
@@ -41,11 +42,17 @@ PLAN = {0.02: (629, 942, 1257, 2513, 5027),
         0.001: (3000, 5027, 10053, 20106, 31416)}
 
 
-def point(zeta: float, n: int) -> dict:
-    r = compare(zeta, P_TILDE, n=n, keys=KEYS)  # the 2D state against the 1D method
-    return {"zeta": zeta, "N": n, "vtau_over_h": zeta * n / (2 * np.pi),
+def point(zeta: float, n: int, delayed: str = "sampled") -> dict:
+    # the 2D state against the 1D method
+    r = compare(zeta, P_TILDE, n=n, keys=KEYS, solver={"delayed_kernel": delayed})
+    return {"zeta": zeta, "N": n, "delayed_kernel": delayed,
+            "vtau_over_h": zeta * n / (2 * np.pi),
             "a0_over_h": A0 * n / (2 * np.pi), "status": r["status"],
             "seconds": r["time_2d"], **{k: list(r[k]) for k in KEYS}}
+
+
+def _kind(r: dict) -> str:
+    return r.get("delayed_kernel", "sampled")
 
 
 def report(rows: list) -> None:
@@ -55,14 +62,17 @@ def report(rows: list) -> None:
     import matplotlib.pyplot as plt
 
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.2), constrained_layout=True)
-    for z, col in zip(PLAN, ("C0", "C1", "C2"), strict=True):
-        rr = sorted((r for r in rows if r["zeta"] == z), key=lambda r: r["N"])
+    for (z, col), (dk, style) in itertools.product(
+            zip(PLAN, ("C0", "C1", "C2"), strict=True), (("sampled", "o-"), ("cell", "s--"))):
+        rr = sorted((r for r in rows if r["zeta"] == z and _kind(r) == dk),
+                    key=lambda r: r["N"])
         if not rr:
             continue
         x = np.array([r["vtau_over_h"] for r in rr])
         for ax, k in zip(axes, ("mu_bar_adhesive", "G2_over_dgamma"), strict=True):
             e = np.array([max(abs(r[k][2]), 1e-5) for r in rr])
-            ax.loglog(x, e, "o-", color=col, label=f"ζ = {z:g} (a0 = {A0 / z:g} vτ)")
+            ax.loglog(x, e, style, color=col,
+                      label=f"ζ = {z:g} (a0 = {A0 / z:g} vτ), {dk}")
     for ax, name in zip(axes, ("μ̄_a (adhesive friction)", "G2/Δγ (trailing edge)"),
                         strict=True):
         for lev in (0.05, 0.02):
@@ -71,13 +81,14 @@ def report(rows: list) -> None:
         ax.set_ylabel(f"|relative error| of {name}")
         ax.legend(fontsize=8)
     fig.suptitle("2D solver against the 1D method: y-invariant sinusoid, β = 10, p̃∞ = 0.15, "
-                 "ã0 = 0.01 (dotted: 5 % and 2 %)")
+                 "ã0 = 0.01 (dotted: 5 % and 2 %; dashed: delayed kernel averaged over the "
+                 "cells)", fontsize=9)
     fig.savefig(ROOT / "docs" / "figures" / "relaxation_length.png", dpi=120)
-    lines = ["| ζ | N | vτ/h | a0/h | status | ã | G1 | G2 | μ̄ | μ̄_a | s |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
-    for r in sorted(rows, key=lambda r: (-r["zeta"], r["N"])):
+    lines = ["| ζ | N | vτ/h | a0/h | delayed kernel | status | ã | G1 | G2 | μ̄ | μ̄_a | s |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in sorted(rows, key=lambda r: (-r["zeta"], r["N"], _kind(r) == "cell")):
         lines.append(f"| {r['zeta']:g} | {r['N']} | {r['vtau_over_h']:.2f} | "
-                     f"{r['a0_over_h']:.2f} | {r['status']} | "
+                     f"{r['a0_over_h']:.2f} | {_kind(r)} | {r['status']} | "
                      + " | ".join(f"{100 * r[k][2]:+.2f} %" for k in KEYS)
                      + f" | {r['seconds']:.1f} |")
     write_section("relaxation_length", f"Measured {time.strftime('%Y-%m-%d')} with `python "
@@ -90,17 +101,21 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--report-only", action="store_true",
                     help="redraw the figure and table from bench/relaxation_length.json")
+    ap.add_argument("--delayed-kernel", nargs="+", default=["sampled", "cell"],
+                    choices=("sampled", "cell"),
+                    help="solver.delayed_kernel values to run (rows of the others are kept)")
     args = ap.parse_args(argv)
     if args.report_only:
         report(json.loads(OUT.read_text()))
         return
-    rows = []
-    for z, ns in PLAN.items():
+    rows = [r for r in (json.loads(OUT.read_text()) if OUT.exists() else [])
+            if _kind(r) not in args.delayed_kernel]
+    for dk, (z, ns) in itertools.product(args.delayed_kernel, PLAN.items()):
         for n in ns:
-            r = point(z, n)
+            r = point(z, n, dk)
             rows.append(r)
             OUT.write_text(json.dumps(rows, indent=1))  # every finished point is kept
-            print(f"ζ {z:g} N {n:6d} vτ/h {r['vtau_over_h']:5.2f} {r['status']:13s} "
+            print(f"{dk:7s} ζ {z:g} N {n:6d} vτ/h {r['vtau_over_h']:5.2f} {r['status']:13s} "
                   + " ".join(f"{k[:5]} {100 * r[k][2]:+6.2f}%" for k in KEYS)
                   + f"  {r['seconds']:.1f} s", flush=True)
     report(rows)

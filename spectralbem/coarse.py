@@ -43,7 +43,7 @@ def coarse_operator(op: SpectralOperator) -> SpectralOperator:
     """The operator of the same scene on the grid of half the cells per side."""
     c = op.cell
     return SpectralOperator(Cell(c.Lx, c.Ly, c.Nx // 2, c.Ny // 2), op.material, op.layer,
-                            op.velocity, op.threads, op.backend)
+                            op.velocity, op.threads, op.backend, op.delayed)
 
 
 def _level_set(state, spacing) -> np.ndarray:

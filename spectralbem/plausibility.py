@@ -39,9 +39,11 @@ A0_OVER_PATCH = 0.1
 A0_CELLS_ELASTIC = 4.0
 
 #: cells per relaxation length vτ below which a viscoelastic (SLS) 2D adhesive scene is
-#: warned: the y-invariant sinusoid against the 1D method (bench/relaxation_length.py,
-#: docs/performance.md) has its adhesive friction within 5 % from 2.5 cells on, 2 % from 4
-VTAU_CELLS = 2.5
+#: warned, per solver.delayed_kernel: the y-invariant sinusoid against the 1D method
+#: (bench/relaxation_length.py, docs/performance.md) has its adhesive friction within 5 %
+#: from 2.5 cells on with the sampled kernel (2 % from 4), and from 1.5 cells on with the
+#: delayed part averaged over the cells (1 % from 2, where a0 spans 2 cells or more)
+VTAU_CELLS = {"sampled": 2.5, "cell": 1.5}
 
 __all__ = ["scene_warnings", "state_warnings", "PlausibilityWarning"]
 
@@ -94,13 +96,21 @@ def _relaxation_length(scene) -> list[str]:
     if not scene.adhesive or scene.model != "grid2d" or tau is None or speed == 0.0:
         return []
     cells = speed * tau / max(scene.cell.hx, scene.cell.hy)
-    if cells >= VTAU_CELLS:
+    kind = scene.solver.get("delayed_kernel", "sampled")
+    if cells >= VTAU_CELLS[kind]:
         return []
+    if kind == "sampled":
+        hint = ("the trailing edge's G2 and the adhesive friction μ_a are resolved within 5 % "
+                "only from 2.5 cells per vτ on, 2 % from 4 with the sampled kernel, within 1 % "
+                "from 2 cells with solver.delayed_kernel = \"cell\" (the sinusoid against "
+                "the 1D method, docs/performance.md, \"Resolving the relaxation length\"); "
+                "set it or refine the grid")
+    else:
+        hint = ("μ_a is within 5 % from 1.5 cells per vτ on with the delayed kernel averaged "
+                "over the cells (docs/performance.md, \"Resolving the relaxation length\"); "
+                "refine the grid")
     return [f"motion.speed: the relaxation length vτ = {speed * tau:.4g} m is {cells:.3g} "
-            f"cells long (warned below {VTAU_CELLS:g}): the trailing edge's G2 and the adhesive "
-            "friction μ_a are resolved within 5 % only from 2.5 cells per vτ on, 2 % from 4 "
-            "(the sinusoid against the 1D method, docs/performance.md, \"Resolving the "
-            "relaxation length\"); refine the grid"]
+            f"cells long (warned below {VTAU_CELLS[kind]:g}): {hint}"]
 
 
 def _a0_cells_elastic(scene) -> list[str]:

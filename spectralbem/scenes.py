@@ -108,10 +108,11 @@ class Scene:
     def sinusoid(cls, zeta: float, beta: float, Gamma: float, *, p_tilde: float | None = None,
                  delta_tilde: float | None = None, a0_tilde: float,
                  cells_per_wavelength: int = 1024, ny: int = 8, direction_deg: float = 0.0,
-                 model: str = "grid2d") -> Scene:
+                 model: str = "grid2d", solver: dict | None = None) -> Scene:
         """The seed scene: h = Λ cos(kx) on an Lx = λ by ny-cell periodic cell, sliding at
         ζ = kvτ along the angle ``direction_deg`` to the wave vector.  ``model`` =
-        ``"sinusoid1d"`` runs the seed's 1D method instead of the grid."""
+        ``"sinusoid1d"`` runs the seed's 1D method instead of the grid; ``solver``: entries of
+        the scene's ``[solver]`` table."""
         raw = {"scene": {"model": model},
                "sinusoid": {"zeta": zeta, "beta": beta, "Gamma": Gamma, "a0_tilde": a0_tilde,
                             "cells_per_wavelength": cells_per_wavelength, "ny": ny,
@@ -119,6 +120,8 @@ class Scene:
         for k, v in (("p_tilde", p_tilde), ("delta_tilde", delta_tilde)):
             if v is not None:
                 raw["sinusoid"][k] = v
+        if solver:
+            raw["solver"] = dict(solver)
         raw = json.loads(json.dumps(raw, default=_plain))
         spec, problems = validate(raw)
         if problems:
@@ -338,9 +341,10 @@ def _build_seed(spec: dict) -> Scene:
                   cells_per_wavelength=n, ny=ny, direction_deg=s["direction_deg"])
     if name == "penetration" and model == "grid2d":
         _check_penetration(HalfSpace(), mat.nu, sinusoid(cell, 1.0), steps)
+    extra = {"solver": dict(spec["solver"])} if "solver" in spec else {}
     return Scene(cell, mat, sinusoid(cell, 1.0), (v * np.cos(phi), v * np.sin(phi)),
                  np.pi * s["Gamma"], s["a0_tilde"], p0, d0, "sinusoid", params, None, model,
-                 spec, control=(name, steps))
+                 spec, control=(name, steps), **extra)
 
 
 def _build(section: str, spec: dict, cell: Cell, base: Path, problems: list):

@@ -163,6 +163,11 @@ SECTIONS = {
                         "zero-solve predictor then exact tests (hybrid), or the predictor "
                         "alone (predictor; less accurate, see docs/performance.md)",
                         choices=("exact", "hybrid", "predictor"), default="exact"),
+        "delayed_kernel": _k("string", "viscoelastic scenes: the delayed (creep) part of "
+                             "the kernel sampled at the grid's wavevectors, or averaged over "
+                             "the cells (cell: far more accurate where vτ spans few cells, "
+                             "docs/theory.md)", choices=("sampled", "cell"),
+                             default="sampled"),
         "coarse_start": _k("boolean", "adhesive scenes: start the front from the same scene "
                            "solved on the grid of half the cells per side (recursively; "
                            "fewer front iterations in elastic scenes, see "
@@ -360,10 +365,13 @@ def validate(raw: dict) -> tuple[dict, list]:
                             f"{', '.join(sorted(known))}")
     out = {"scene": _check_section("scene", SECTIONS["scene"], raw.get("scene", {}), problems)}
     if "sinusoid" in raw:
-        mixed = [s for s in PHYSICAL if s in raw]
+        mixed = [s for s in PHYSICAL if s in raw and s != "solver"]
         if mixed:
             problems.append(f"{', '.join(mixed)}: not allowed with [sinusoid] (the seed scene "
-                            "is dimensionless and complete)")
+                            "is dimensionless and complete; [solver] is allowed)")
+        if "solver" in raw:
+            out["solver"] = _check_section("solver", SECTIONS["solver"], raw["solver"],
+                                           problems)
         s = _check_section("sinusoid", SECTIONS["sinusoid"], raw["sinusoid"], problems)
         out["sinusoid"] = s
         if s and (s.get("p_tilde") is None) == (s.get("delta_tilde") is None):

@@ -178,7 +178,8 @@ def _solve_seed_grid(scene: Scene, mask0=None, progress=None):
 # -- physical scenes -------------------------------------------------------------------------
 def _operator(scene: Scene) -> SpectralOperator:
     return SpectralOperator(scene.cell, scene.material, scene.layer, velocity=scene.velocity,
-                            threads=scene.solver["threads"])
+                            threads=scene.solver["threads"],
+                            delayed=scene.solver.get("delayed_kernel", "sampled"))
 
 
 def _grid_state(scene: Scene, op: SpectralOperator, mask0=None, progress=None,

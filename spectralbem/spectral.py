@@ -8,6 +8,9 @@ Pressure → displacement on an Nx × Ny periodic grid of a cell Lx × Ly::
 * ``u`` is positive *into* the slab, ``p`` positive in compression (docs/derivations.md §1).
 * The q = 0 mode follows the layer (:mod:`spectralbem.layers`): dropped for the half-space and
   the pressure-loaded layer (zero-mean gauge), finite for the glued layer.
+* ``delayed = "cell"``: the glassy part 2(1-ν²)S/(E∞|q|) sampled, the delayed part
+  (1/E(ω) − 1/E∞) averaged over the cells with its aliased images
+  (:mod:`spectralbem.cell_average`); ``"sampled"`` (default): Ĉ at the grid's wavevectors.
 * Elastic scenes (or v = 0) build a real kernel and never evaluate E(ω); a half-space never
   evaluates S.
 * Even/odd split (Eq. 2): C^E has kernel Re Ĉ (symmetric matrix), C^O has i Im Ĉ
@@ -28,10 +31,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import backend as _backend
+from .cell_average import delayed_kernel
 from .layers import HalfSpace, Layer
 from .materials import Material
 
-__all__ = ["Cell", "SpectralOperator", "GridError"]
+__all__ = ["Cell", "SpectralOperator", "GridError", "DELAYED"]
+
+#: the discretisations of a viscoelastic kernel's delayed part (SpectralOperator ``delayed``)
+DELAYED = ("sampled", "cell")
 
 
 class GridError(ValueError):
@@ -140,10 +147,17 @@ class SpectralOperator:
     threads : FFT threads (None: :func:`spectralbem.fft.get_threads`).
     backend : the compute backend, a name or a :class:`~spectralbem.backend.Backend`
         (None: ``SPECTRALBEM_BACKEND``, default ``"cpu"``).
+    delayed : viscoelastic operators: ``"sampled"`` (Ĉ at the grid's wavevectors) or
+        ``"cell"`` (the glassy part sampled, the delayed part averaged over the cells,
+        :mod:`spectralbem.cell_average`); ignored by elastic operators.
     """
 
     def __init__(self, cell: Cell, material: Material, layer: Layer | None = None,
-                 velocity=(0.0, 0.0), threads: int | None = None, backend=None):
+                 velocity=(0.0, 0.0), threads: int | None = None, backend=None,
+                 delayed: str = "sampled"):
+        if delayed not in DELAYED:
+            raise GridError(f"delayed = {delayed!r} must be one of {DELAYED}")
+        self.delayed = delayed
         self.backend = _backend.get(backend)
         self.cell = cell
         self.material = material
@@ -167,15 +181,20 @@ class SpectralOperator:
         qx, qy = cell.wavevectors(half=False)
         q = np.hypot(qx, qy)
         qpos = np.where(q > 0, q, 1.0)
-        if self.viscoelastic:
+        cell_avg = self.viscoelastic and self.delayed == "cell"
+        if cell_avg:  # the glassy part sampled, the delayed part averaged over the cells
+            comp = 1.0 / mat.Einf
+        elif self.viscoelastic:
             comp = mat.compliance(qx * self.velocity[0] + qy * self.velocity[1])
         else:
             comp = 1.0 / mat.E0
         full = 2.0 * (1.0 - nu**2) * comp / qpos
         if not lay.is_half_space:
             full = full * lay.factor(qpos, nu)
-        c0 = lay.q0_compliance(mat.E0, nu)
         full = full * np.ones(q.shape)  # broadcast a scalar compliance
+        if cell_avg:
+            full = full + delayed_kernel(cell, mat, lay, self.velocity)
+        c0 = lay.q0_compliance(mat.E0, nu)
         full[0, 0] = 0.0 if c0 is None else c0
         half = cell.hermitian_half(full) if self.viscoelastic else full[:, : cell.Ny // 2 + 1].real
         if not np.all(np.isfinite(half)):

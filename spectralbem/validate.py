@@ -37,14 +37,15 @@ def cells_for(zeta: float) -> int:
     return int(round(m * lam / A0))
 
 
-def compare(zeta, p_tilde, direction_deg=0.0, ny=2, n=None, keys=KEYS):
-    """The seed sinusoid on the 2D grid (n cells per wavelength, default :func:`cells_for`)
-    against the 1D method at the same a0: per name of ``keys`` (2D, 1D, relative
-    difference; ẽ relative to ã)."""
+def compare(zeta, p_tilde, direction_deg=0.0, ny=2, n=None, keys=KEYS, solver=None):
+    """The seed sinusoid on the 2D grid (n cells per wavelength, default :func:`cells_for`;
+    ``solver``: [solver] entries) against the 1D method at the same a0: per name of ``keys``
+    (2D, 1D, relative difference; ẽ relative to ã)."""
     n = n or cells_for(zeta * np.cos(np.radians(direction_deg)))
     t = time.perf_counter()
     ds = solve(Scene.sinusoid(zeta, BETA, GAMMA, p_tilde=p_tilde, a0_tilde=A0,
-                              cells_per_wavelength=n, ny=ny, direction_deg=direction_deg))
+                              cells_per_wavelength=n, ny=ny, direction_deg=direction_deg,
+                              solver=solver))
     t2 = time.perf_counter() - t
     a0e = A0  # the a0 asked for is the a0 used (a band of m + θ layers)
     ref = s1.solve(zeta * np.cos(np.radians(direction_deg)), BETA, GAMMA, p_tilde=p_tilde,

@@ -27,6 +27,7 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
+from spectralbem.keys import DELAYED  # noqa: E402
 from spectralbem.validate import A0, compare  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -101,8 +102,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--report-only", action="store_true",
                     help="redraw the figure and table from bench/relaxation_length.json")
-    ap.add_argument("--delayed-kernel", nargs="+", default=["sampled", "cell"],
-                    choices=("sampled", "cell"),
+    ap.add_argument("--delayed-kernel", nargs="+", default=list(DELAYED), choices=DELAYED,
                     help="solver.delayed_kernel values to run (rows of the others are kept)")
     args = ap.parse_args(argv)
     if args.report_only:

@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 __all__ = ["Key", "key", "REQUIRED", "LENGTH", "HEIGHT", "MODULUS", "TIME", "STIFFENING",
-           "TOL_MIN", "FRONT_TOL", "front_tol_max"]
+           "TOL_MIN", "FRONT_TOL", "front_tol_max", "DELAYED"]
 
 class _Required:
     """The default of a required key (a sentinel with a stable name)."""
@@ -81,6 +81,11 @@ TOL_MIN = 1e-14
 #: :func:`front_tol_max`, converge faster where a0 spans many cells and cost accuracy in G
 #: (docs/theory.md, the 2D criterion, "Convergence")
 FRONT_TOL = 0.5
+
+
+#: the discretisations of a viscoelastic kernel's delayed part (solver.delayed_kernel,
+#: SpectralOperator ``delayed``; docs/theory.md, "The viscoelastic kernel on the grid")
+DELAYED = ("sampled", "cell")
 
 
 def front_tol_max(a0_cells: float) -> float:

@@ -21,6 +21,7 @@ import math
 import re
 
 from .keys import (  # noqa: F401 (re-exported: the schema's vocabulary)
+    DELAYED,
     FRONT_TOL,
     HEIGHT,
     LENGTH,
@@ -166,8 +167,7 @@ SECTIONS = {
         "delayed_kernel": _k("string", "viscoelastic scenes: the delayed (creep) part of "
                              "the kernel sampled at the grid's wavevectors, or averaged over "
                              "the cells (cell: far more accurate where vτ spans few cells, "
-                             "docs/theory.md)", choices=("sampled", "cell"),
-                             default="sampled"),
+                             "docs/theory.md)", choices=DELAYED, default=DELAYED[0]),
         "coarse_start": _k("boolean", "adhesive scenes: start the front from the same scene "
                            "solved on the grid of half the cells per side (recursively; "
                            "fewer front iterations in elastic scenes, see "
@@ -402,6 +402,8 @@ def _check_seed(out, problems):
             if a0 < hc * (1 - 1e-9):
                 problems.append(f"sinusoid.a0_tilde: {a0!r} is smaller than one cell "
                                 f"({hc:.4g}) of the grid model; allowed [{hc:.4g}, 1]")
+            else:
+                _check_front_tol(out, a0 / hc, problems)
 
 
 def _check_front_tol(out, a0_cells: float, problems) -> None:

@@ -32,13 +32,11 @@ import numpy as np
 
 from . import backend as _backend
 from .cell_average import delayed_kernel
+from .keys import DELAYED
 from .layers import HalfSpace, Layer
 from .materials import Material
 
-__all__ = ["Cell", "SpectralOperator", "GridError", "DELAYED"]
-
-#: the discretisations of a viscoelastic kernel's delayed part (SpectralOperator ``delayed``)
-DELAYED = ("sampled", "cell")
+__all__ = ["Cell", "SpectralOperator", "GridError"]
 
 
 class GridError(ValueError):

@@ -4,7 +4,7 @@ solver.delayed_kernel = "cell")."""
 import numpy as np
 import pytest
 
-from spectralbem.cell_average import IMAGE_TOL, _b, delayed_kernel, images
+from spectralbem.cell_average import _b, delayed_kernel, images
 from spectralbem.layers import GluedLayer
 from spectralbem.materials import StandardLinearSolid
 from spectralbem.scenes import Scene
@@ -111,7 +111,9 @@ def test_seed_scene_takes_the_solver_table_and_names_a_bad_kernel():
     with pytest.raises(SceneError, match="solver.delayed_kernel"):
         Scene.sinusoid(0.1, 10.0, 0.0, p_tilde=0.1, a0_tilde=0.01, cells_per_wavelength=64,
                        ny=2, solver={"delayed_kernel": "galerkin"})
+    # its front_tol is checked against its band: a0 = 0.01 k⁻¹ is 1.6 cells at 1000 cells
+    # per wavelength, so at most max(0.5, 0.8) cells
+    with pytest.raises(SceneError, match="solver.front_tol: 2"):
+        Scene.sinusoid(0.1, 10.0, 0.008, p_tilde=0.1, a0_tilde=0.01, cells_per_wavelength=1000,
+                       ny=2, solver={"front_tol": 2.0})
 
-
-def test_image_tolerance_is_small():
-    assert 0 < IMAGE_TOL <= 1e-3

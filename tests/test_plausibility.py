@@ -107,9 +107,9 @@ def test_relaxation_length_of_few_cells_is_named():
     assert len(out) == 1 and "vτ = 3.98e-06 m is 2.04 cells long" in out[0], out
     assert msgs(1024) == []
     assert msgs(512, **{"adhesion.dgamma": 0.0}) == []
-    # the delayed part averaged over the cells needs 1.5 cells: 256² (1.02) warned, 512² not
+    # the delayed part averaged over the cells needs 2 cells: 256² (1.02) warned, 512² not
     cell = {"solver.delayed_kernel": "cell"}
-    assert len(msgs(256, **cell)) == 1 and "warned below 1.5" in msgs(256, **cell)[0]
+    assert len(msgs(256, **cell)) == 1 and "warned below 2" in msgs(256, **cell)[0]
     assert msgs(512, **cell) == []
 
 

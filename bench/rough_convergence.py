@@ -35,7 +35,7 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 
 from spectralbem.criterion import default_smoothing  # noqa: E402
-from spectralbem.keys import DELAYED  # noqa: E402
+from spectralbem.keys import DELAYED, DELAYED_DEFAULT  # noqa: E402
 from spectralbem.scenes import load_scene, read_scene_file, solve  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -48,7 +48,8 @@ MATERIALS = {
 
 
 def _solve(n: int, material: str, a0: float, sigma: float | None, loads=None,
-           coarse: bool = False, front_tol: float | None = None, delayed: str = "sampled"):
+           coarse: bool = False, front_tol: float | None = None,
+           delayed: str = DELAYED_DEFAULT):
     """(Dataset, CPU s) of the case at N², the material's overrides, a0 (m), σ (in units of
     a0, growing with large patches as by default; None: the material's default), the load path
     (None: the case's) and whether each state starts from the coarse grid's front."""
@@ -64,7 +65,7 @@ def _solve(n: int, material: str, a0: float, sigma: float | None, loads=None,
         ov["solver.coarse_start"] = True
     if front_tol is not None:
         ov["solver.front_tol"] = front_tol
-    if delayed != "sampled":
+    if material != "elastic":
         ov["solver.delayed_kernel"] = delayed
     t = time.process_time()
     ds = solve(load_scene(raw, overrides=ov, base_dir=CASE.parent))
@@ -73,7 +74,7 @@ def _solve(n: int, material: str, a0: float, sigma: float | None, loads=None,
 
 def run_one(n: int, material: str, a0: float, sigma: float | None,
             coarse: bool = False, loading_only: bool = False,
-            front_tol: float | None = None, delayed: str = "sampled") -> dict:
+            front_tol: float | None = None, delayed: str = DELAYED_DEFAULT) -> dict:
     """One load path at N², the material's overrides, a0 (m), σ (units of a0, or None),
     from the adhesiveless start or the coarse grid's front (``coarse``); ``loading_only``:
     the first state of the path only (1e4 Pa); ``front_tol``: solver.front_tol (None: the
@@ -101,7 +102,14 @@ def run_one(n: int, material: str, a0: float, sigma: float | None,
             else float("nan"))
     return dict(N=n, material=material, a0=a0, sigma=sigma, cpu=cpu, steps=steps,
                 hysteresis=hyst, coarse_start=coarse, loading_only=loading_only,
-                front_tol=front_tol, delayed_kernel=delayed)
+                front_tol=front_tol,
+                delayed_kernel=None if material == "elastic" else delayed)
+
+
+def _kernel(r: dict):
+    """The run's solver.delayed_kernel (None: elastic; rows recorded before the key existed
+    were sampled)."""
+    return None if r["material"] == "elastic" else r.get("delayed_kernel") or "sampled"
 
 
 def _key(r: dict) -> tuple:
@@ -109,8 +117,7 @@ def _key(r: dict) -> tuple:
     whether it is the loading state alone, the tolerance in position (None: default) and the
     discretisation of the kernel's delayed part."""
     return (r["material"], r["a0"], r["sigma"], bool(r.get("coarse_start", False)),
-            bool(r.get("loading_only", False)), r.get("front_tol"),
-            r.get("delayed_kernel", "sampled"))
+            bool(r.get("loading_only", False)), r.get("front_tol"), _kernel(r))
 
 
 def scan_one(n: int, a0_cells: float, sigma: float | None) -> dict:
@@ -192,7 +199,8 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
                   + (", coarse-grid start" if coarse else "")
                   + (f", front_tol = {ftol:g} cells (`--front-tol`)" if ftol is not None else "")
                   + (", loading state only (`--loading-only`)" if only else "")
-                  + (f", delayed kernel: {dk} (`--delayed-kernel`)" if dk != "sampled" else ""),
+                  + ("" if dk is None else f", delayed kernel: {dk}"
+                     + (" (default)" if dk == DELAYED_DEFAULT else " (`--delayed-kernel`)")),
                   "",
                   "| N | step | status | balanced | area | mean gap (µm) | μ | μ_a | G1/Δγ | "
                   "G2/Δγ | CPU s |", "|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -244,7 +252,7 @@ def _series(runs, material, step, key, coarse=False, only=None):
     for r in runs:
         if (r["material"] != material or bool(r.get("coarse_start", False)) != coarse
                 or r["sigma"] is not None or r.get("front_tol") is not None
-                or r.get("delayed_kernel", "sampled") != "sampled"
+                or _kernel(r) not in (None, DELAYED_DEFAULT)
                 or step >= len(r["steps"])):
             continue
         if only is not None and bool(r.get("loading_only", False)) != only:
@@ -415,7 +423,7 @@ def main(argv=None):
     ap.add_argument("--loading-only", action="store_true",
                     help="the first state of the path only (1e4 Pa): a separate table, for "
                          "grids where the whole path is too long (1024²)")
-    ap.add_argument("--delayed-kernel", default="sampled", choices=DELAYED,
+    ap.add_argument("--delayed-kernel", default=DELAYED_DEFAULT, choices=DELAYED,
                     help="solver.delayed_kernel of the viscoelastic scenes: a separate table")
     ap.add_argument("--report", action="store_true")
     ap.add_argument("--scan", action="store_true",

@@ -52,29 +52,69 @@ def images(tol: float = IMAGE_TOL) -> tuple:
 
 
 def delayed_kernel(cell, material, layer, velocity, tol: float = IMAGE_TOL) -> np.ndarray:
-    """Ĉ_D on the full spectrum (m/Pa, unscaled), 0 at q = 0 (the caller sets the mean mode).
+    """Ĉ_D on the rfft half spectrum (m/Pa, unscaled), hermitian, 0 at q = 0 (the caller sets
+    the mean mode).  ``layer`` None or a half-space: S is never evaluated.
 
-    ``layer`` None or a half-space: S is never evaluated.
+    The images come in pairs ±m, so Ĉ_D(−q) = conj Ĉ_D(q) and the half spectrum holds the
+    whole kernel, except where a wavevector and its negative are the same grid mode (the
+    Nyquist row and column, q = 0 column): there the two representatives ±π/h are averaged,
+    which makes C an exact real matrix.
     """
-    qx, qy = cell.wavevectors(half=False)
-    hx, hy = cell.hx, cell.hy
+    qx = 2 * np.pi * np.fft.fftfreq(cell.Nx, cell.hx)
+    qy = 2 * np.pi * np.fft.rfftfreq(cell.Ny, cell.hy)
+    args = (cell.hx, cell.hy, material, layer, velocity, images(tol))
+    out = _image_sum(qx, qy, *args)
+    if cell.Nx % 2 == 0:  # the Nyquist row −π/hx and its other representative +π/hx
+        r = cell.Nx // 2
+        out[r] = 0.5 * (out[r] + _image_sum(np.array([np.pi / cell.hx]), qy, *args)[0])
+    flip = (-np.arange(cell.Nx)) % cell.Nx  # row of −qx
+    for j in {0, qy.size - 1} if cell.Ny % 2 == 0 else {0}:  # columns that hold ±q
+        out[:, j] = 0.5 * (out[:, j] + np.conj(out[flip, j]))
+    out[0, 0] = 0.0  # the images' sinc² vanish there only to round-off
+    return out
+
+
+def _image_sum(qx, qy, hx, hy, material, layer, velocity, image_set) -> np.ndarray:
+    """Σ_m W(q_m) 2(1-ν²) S(|q_m|d) D(q_m·v)/|q_m| on the grid qx ⊗ qy (1D arrays).
+
+    D and the sinc² factor along the velocity are 1D when the sliding is along an axis: the
+    images are then grouped by their index along it, and each group's real 2D sum is
+    multiplied by its complex 1D factor once (three real passes over the grid per image).
+    """
     vx, vy = float(velocity[0]), float(velocity[1])
-    c_inf = 1.0 / material.Einf
-    nu = material.nu
-    out = np.zeros((cell.Nx, cell.Ny), dtype=complex)
-    for mx, my in images(tol):
-        Qx = qx + 2 * np.pi * mx / hx
-        Qy = qy + 2 * np.pi * my / hy
-        w = np.sinc(Qx * hx / (2 * np.pi)) ** 2 * np.sinc(Qy * hy / (2 * np.pi)) ** 2
-        if vy == 0.0:  # the frequency of a sliding along an axis is a 1D array
-            d = material.compliance(Qx * vx) - c_inf
-        elif vx == 0.0:
-            d = material.compliance(Qy * vy) - c_inf
-        else:
-            d = material.compliance(Qx * vx + Qy * vy) - c_inf
-        Q = np.hypot(Qx, Qy)
-        k = np.divide(2.0 * (1.0 - nu**2) * w, Q, out=np.zeros(Q.shape), where=Q > 0)
-        if layer is not None and not layer.is_half_space:
-            k = k * layer.factor(np.where(Q > 0, Q, 1.0), nu)
-        out += k * d
+    c_inf, c2 = 1.0 / material.Einf, 2.0 * (1.0 - material.nu**2)
+    qx, qy = qx[:, None], qy[None, :]
+    shape = (qx.shape[0], qy.shape[1])
+    layered = layer is not None and not layer.is_half_space
+    along = 0 if vy == 0.0 else 1 if vx == 0.0 else None
+    groups: dict = {}
+    for m in image_set:
+        groups.setdefault(m if along is None else m[along], []).append(m)
+    out = np.zeros(shape, dtype=complex)
+    acc, buf = np.empty(shape), np.empty(shape)
+    for members in groups.values():
+        acc[:] = 0.0
+        for mx, my in members:
+            Qx, Qy = qx + 2 * np.pi * mx / hx, qy + 2 * np.pi * my / hy
+            wx = np.sinc(Qx * hx / (2 * np.pi)) ** 2
+            wy = np.sinc(Qy * hy / (2 * np.pi)) ** 2
+            np.hypot(Qx, Qy, out=buf)
+            zero = buf[0, 0] == 0.0  # q = 0, m = 0: left to the caller
+            if zero:
+                buf[0, 0] = 1.0
+            if layered:
+                s = layer.factor(buf, material.nu)
+            np.divide(wy if along == 0 else wx if along == 1 else wx * wy, buf, out=buf)
+            if layered:
+                buf *= s
+            if zero:
+                buf[0, 0] = 0.0
+            if along is None:
+                buf *= c2
+                out += buf * (material.compliance(Qx * vx + Qy * vy) - c_inf)
+            else:
+                acc += buf
+        if along is not None:  # the group's factor along the velocity, 1D
+            Q, w, v = (Qx, wx, vx) if along == 0 else (Qy, wy, vy)
+            out += acc * (c2 * w * (material.compliance(Q * v) - c_inf))
     return out

@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 __all__ = ["Key", "key", "REQUIRED", "LENGTH", "HEIGHT", "MODULUS", "TIME", "STIFFENING",
-           "TOL_MIN", "FRONT_TOL", "front_tol_max", "DELAYED"]
+           "TOL_MIN", "FRONT_TOL", "front_tol_max", "DELAYED", "DELAYED_DEFAULT"]
 
 class _Required:
     """The default of a required key (a sentinel with a stable name)."""
@@ -84,8 +84,11 @@ FRONT_TOL = 0.5
 
 
 #: the discretisations of a viscoelastic kernel's delayed part (solver.delayed_kernel,
-#: SpectralOperator ``delayed``; docs/theory.md, "The viscoelastic kernel on the grid")
-DELAYED = ("sampled", "cell")
+#: SpectralOperator ``delayed``; docs/theory.md, "The viscoelastic kernel on the grid"), the
+#: default first: averaged over the cells, which resolves the relaxation length vτ from
+#: two cells on (docs/performance.md, "Resolving the relaxation length")
+DELAYED = ("cell", "sampled")
+DELAYED_DEFAULT = DELAYED[0]
 
 
 def front_tol_max(a0_cells: float) -> float:

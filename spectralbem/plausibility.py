@@ -23,6 +23,8 @@ import warnings
 
 import numpy as np
 
+from .keys import DELAYED_DEFAULT
+
 #: mean pressure over the relaxed contact modulus E0/(1 − ν²) above which a warning is given
 PRESSURE_OVER_MODULUS = 0.1
 #: rms slope of the surface above which a warning is given (small-slope theory)
@@ -97,7 +99,7 @@ def _relaxation_length(scene) -> list[str]:
     if not scene.adhesive or scene.model != "grid2d" or tau is None or speed == 0.0:
         return []
     cells = speed * tau / max(scene.cell.hx, scene.cell.hy)
-    kind = scene.solver.get("delayed_kernel", "sampled")
+    kind = scene.solver.get("delayed_kernel", DELAYED_DEFAULT)
     if cells >= VTAU_CELLS[kind]:
         return []
     if kind == "sampled":

@@ -22,6 +22,7 @@ import re
 
 from .keys import (  # noqa: F401 (re-exported: the schema's vocabulary)
     DELAYED,
+    DELAYED_DEFAULT,
     FRONT_TOL,
     HEIGHT,
     LENGTH,
@@ -165,9 +166,10 @@ SECTIONS = {
                         "alone (predictor; less accurate, see docs/performance.md)",
                         choices=("exact", "hybrid", "predictor"), default="exact"),
         "delayed_kernel": _k("string", "viscoelastic scenes: the delayed (creep) part of "
-                             "the kernel sampled at the grid's wavevectors, or averaged over "
-                             "the cells (cell: far more accurate where vτ spans few cells, "
-                             "docs/theory.md)", choices=DELAYED, default=DELAYED[0]),
+                             "the kernel averaged over the cells (cell), or sampled at the "
+                             "grid's wavevectors (sampled: needs about twice the cells per vτ "
+                             "for the same accuracy, docs/theory.md)", choices=DELAYED,
+                             default=DELAYED_DEFAULT),
         "coarse_start": _k("boolean", "adhesive scenes: start the front from the same scene "
                            "solved on the grid of half the cells per side (recursively; "
                            "fewer front iterations in elastic scenes, see "

@@ -19,7 +19,7 @@ from . import __version__
 from .contact import sliding_direction
 from .io import FIELDS, SCALARS, cf_attributes
 from .io import attrs as _attrs
-from .keys import FRONT_TOL
+from .keys import DELAYED_DEFAULT, FRONT_TOL
 from .results import (
     edges_y_invariant,
     friction_observables,
@@ -179,7 +179,7 @@ def _solve_seed_grid(scene: Scene, mask0=None, progress=None):
 def _operator(scene: Scene) -> SpectralOperator:
     return SpectralOperator(scene.cell, scene.material, scene.layer, velocity=scene.velocity,
                             threads=scene.solver["threads"],
-                            delayed=scene.solver.get("delayed_kernel", "sampled"))
+                            delayed=scene.solver.get("delayed_kernel", DELAYED_DEFAULT))
 
 
 def _grid_state(scene: Scene, op: SpectralOperator, mask0=None, progress=None,

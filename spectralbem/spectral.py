@@ -8,9 +8,9 @@ Pressure → displacement on an Nx × Ny periodic grid of a cell Lx × Ly::
 * ``u`` is positive *into* the slab, ``p`` positive in compression (docs/derivations.md §1).
 * The q = 0 mode follows the layer (:mod:`spectralbem.layers`): dropped for the half-space and
   the pressure-loaded layer (zero-mean gauge), finite for the glued layer.
-* ``delayed = "cell"``: the glassy part 2(1-ν²)S/(E∞|q|) sampled, the delayed part
+* ``delayed = "cell"`` (default): the glassy part 2(1-ν²)S/(E∞|q|) sampled, the delayed part
   (1/E(ω) − 1/E∞) averaged over the cells with its aliased images
-  (:mod:`spectralbem.cell_average`); ``"sampled"`` (default): Ĉ at the grid's wavevectors.
+  (:mod:`spectralbem.cell_average`); ``"sampled"``: Ĉ at the grid's wavevectors.
 * Elastic scenes (or v = 0) build a real kernel and never evaluate E(ω); a half-space never
   evaluates S.
 * Even/odd split (Eq. 2): C^E has kernel Re Ĉ (symmetric matrix), C^O has i Im Ĉ
@@ -32,7 +32,7 @@ import numpy as np
 
 from . import backend as _backend
 from .cell_average import delayed_kernel
-from .keys import DELAYED
+from .keys import DELAYED, DELAYED_DEFAULT
 from .layers import HalfSpace, Layer
 from .materials import Material
 
@@ -145,14 +145,14 @@ class SpectralOperator:
     threads : FFT threads (None: :func:`spectralbem.fft.get_threads`).
     backend : the compute backend, a name or a :class:`~spectralbem.backend.Backend`
         (None: ``SPECTRALBEM_BACKEND``, default ``"cpu"``).
-    delayed : viscoelastic operators: ``"sampled"`` (Ĉ at the grid's wavevectors) or
-        ``"cell"`` (the glassy part sampled, the delayed part averaged over the cells,
-        :mod:`spectralbem.cell_average`); ignored by elastic operators.
+    delayed : viscoelastic operators: ``"cell"`` (default: the glassy part sampled, the
+        delayed part averaged over the cells, :mod:`spectralbem.cell_average`) or
+        ``"sampled"`` (Ĉ at the grid's wavevectors); ignored by elastic operators.
     """
 
     def __init__(self, cell: Cell, material: Material, layer: Layer | None = None,
                  velocity=(0.0, 0.0), threads: int | None = None, backend=None,
-                 delayed: str = "sampled"):
+                 delayed: str = DELAYED_DEFAULT):
         if delayed not in DELAYED:
             raise GridError(f"delayed = {delayed!r} must be one of {DELAYED}")
         self.delayed = delayed
@@ -176,25 +176,30 @@ class SpectralOperator:
     def _build_kernel(self) -> np.ndarray:
         cell, mat, lay = self.cell, self.material, self.layer
         nu = mat.nu
-        qx, qy = cell.wavevectors(half=False)
+        sampled = self.viscoelastic and self.delayed == "sampled"
+        # only a sampled viscoelastic kernel is complex and needs both ±q to be made hermitian;
+        # the others are built on the half spectrum (|q| is the same at qy = ±π/hy)
+        qx, qy = cell.wavevectors(half=not sampled)
         q = np.hypot(qx, qy)
         qpos = np.where(q > 0, q, 1.0)
-        cell_avg = self.viscoelastic and self.delayed == "cell"
-        if cell_avg:  # the glassy part sampled, the delayed part averaged over the cells
-            comp = 1.0 / mat.Einf
-        elif self.viscoelastic:
+        if sampled:
             comp = mat.compliance(qx * self.velocity[0] + qy * self.velocity[1])
+        elif self.viscoelastic:  # the glassy part sampled, the delayed part cell-averaged
+            comp = 1.0 / mat.Einf
         else:
             comp = 1.0 / mat.E0
-        full = 2.0 * (1.0 - nu**2) * comp / qpos
+        k = 2.0 * (1.0 - nu**2) * comp / qpos
         if not lay.is_half_space:
-            full = full * lay.factor(qpos, nu)
-        full = full * np.ones(q.shape)  # broadcast a scalar compliance
-        if cell_avg:
-            full = full + delayed_kernel(cell, mat, lay, self.velocity)
+            k = k * lay.factor(qpos, nu)
+        k = k * np.ones(q.shape)  # broadcast a scalar compliance
         c0 = lay.q0_compliance(mat.E0, nu)
-        full[0, 0] = 0.0 if c0 is None else c0
-        half = cell.hermitian_half(full) if self.viscoelastic else full[:, : cell.Ny // 2 + 1].real
+        k[0, 0] = 0.0 if c0 is None else c0
+        if sampled:
+            half = cell.hermitian_half(k)
+        elif self.viscoelastic:
+            half = k + delayed_kernel(cell, mat, lay, self.velocity)
+        else:
+            half = k
         if not np.all(np.isfinite(half)):
             raise FloatingPointError("the response kernel has non-finite entries")
         return np.ascontiguousarray(half)

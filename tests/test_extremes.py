@@ -167,9 +167,9 @@ def test_pulloff_to_detachment_2d_sphere():
 
 @pytest.mark.parametrize("case, overrides, why", [
     ("seed_sinusoid_2d", {"sinusoid.cells_per_wavelength": 640, "sinusoid.p_tilde": -1.0},
-     "pull-off"),
+     ("pull-off",)),
     ("sinusoid_physical", {"scene.model": "grid2d", "control.mean_pressure": -2e4},
-     "energy release rate")])
+     ("energy release rate", "no crack tip"))])
 def test_tensile_load_beyond_pull_off_is_no_partial_state_2d(case, overrides, why):
     """Tensile loads beyond the load-control pull-off (p̃ ≈ -0.2 by the 1D method, which
     reports both scenes detached) have no equilibrium on the grid either.  Both were
@@ -178,11 +178,13 @@ def test_tensile_load_beyond_pull_off_is_no_partial_state_2d(case, overrides, wh
     sub-cell root in the band); the physical scene at -2e4 Pa (p̃ = -0.24) as a 5-cell strip
     whose 2-cycling edges passed the test in position with G1 = 34 Δγ on its crack tips,
     beyond the bound Δγ/β ≤ G ≤ β Δγ (β = 10).  Both are now not_converged, and the message
-    says why; nothing infinite leaks out."""
+    says why; nothing infinite leaks out.  (With the cell-averaged kernel the physical scene's
+    strip ends held by contact at every edge, "no crack tip"; with the sampled kernel its
+    release rates leave the bound.)"""
     ds = sb.solve(load_scene(CASES / f"{case}.toml", overrides=overrides))
     assert ds.status.item() == "not_converged"
     msg = ds.attrs.get("solver_message", ds.attrs.get("message"))
-    assert why in msg and "pull-off" in msg, msg
+    assert any(w in msg for w in why) and "pull-off" in msg, msg
     for name, v in ds.data_vars.items():
         if v.dtype.kind == "f":
             assert not np.isinf(v.values).any(), name

@@ -94,23 +94,24 @@ def test_a0_of_many_cells_in_an_elastic_scene_is_named():
 
 
 def test_relaxation_length_of_few_cells_is_named():
-    """rough_convergence: vτ = 3.98e-4 m/s × 10 ms = 3.98 µm is 2.04 cells at 512² (warned:
-    below 2.5, where the sinusoid's μ_a is 5 % off the 1D method's, bench/relaxation_length.py)
-    and 4.08 at 1024² (not); adhesiveless or at rest it is not checked."""
+    """rough_convergence: vτ = 3.98e-4 m/s × 10 ms = 3.98 µm is 1.02 cells at 256² (warned:
+    below 2, where the sinusoid's μ_a is 1 % off the 1D method's with the default kernel,
+    bench/relaxation_length.py) and 2.04 at 512² (not); with the sampled kernel 512² is warned
+    (below 2.5: 5 % off) and 1024² (4.08) not; adhesiveless or at rest it is not checked."""
     def msgs(n, **over):
         return [m for m in scene_warnings(load_scene(CASES / "rough_convergence.toml",
                                                      overrides={"grid.Nx": n, "grid.Ny": n,
                                                                 **over}))
                 if "relaxation length" in m]
 
-    out = msgs(512)
-    assert len(out) == 1 and "vτ = 3.98e-06 m is 2.04 cells long" in out[0], out
-    assert msgs(1024) == []
-    assert msgs(512, **{"adhesion.dgamma": 0.0}) == []
-    # the delayed part averaged over the cells needs 2 cells: 256² (1.02) warned, 512² not
-    cell = {"solver.delayed_kernel": "cell"}
-    assert len(msgs(256, **cell)) == 1 and "warned below 2" in msgs(256, **cell)[0]
-    assert msgs(512, **cell) == []
+    out = msgs(256)
+    assert len(out) == 1 and "vτ = 3.98e-06 m is 1.02 cells long (warned below 2)" in out[0]
+    assert msgs(512) == []
+    assert msgs(256, **{"adhesion.dgamma": 0.0}) == []
+    sampled = {"solver.delayed_kernel": "sampled"}
+    out = msgs(512, **sampled)
+    assert len(out) == 1 and "2.04 cells long (warned below 2.5)" in out[0], out
+    assert msgs(1024, **sampled) == []
 
 
 def test_small_patch_diameter_is_the_area_weighted_tenth():

@@ -26,11 +26,11 @@ from __future__ import annotations
 import numpy as np
 
 from . import coarse
+from .adjoint import complete_adjoint
 from .contact import friction, full_contact, sliding_direction
 from .conventions import control
 from .criterion import (
     SMOOTHING_PER_RADIUS,
-    complete_adjoint,
     front_cells,
     front_tests,
     loose_band_rtol,
@@ -372,7 +372,9 @@ class _FrontIteration:
         cells that would move, and the residual of the balance of the resolved front.
         Returns (add, remove, res_out) or None when a test's solve failed."""
         op, mask, hmin, a0 = self.op, self.mask, self.hmin, self.a0
-        self.tests = None  # the last state's tests (kept on a balanced mask): freed first
+        # the last state's tests (kept on a balanced mask) and offsets: freed first
+        self.tests = self.moves_to = None
+        self.s_out = self.s_in = None
         # the adjoint split of δL_P serves only the outputs: the final state's (_result)
         band_rtol = loose_band_rtol(self.test_kw["rtol"]) if self.loose else None
         tests = front_tests(op, w, mask, self.p, self.dgamma, a0, u=self.u, adjoint=False,
@@ -382,9 +384,10 @@ class _FrontIteration:
         if not tests.converged:
             self.message = "layer test: " + tests.message
             return None
-        widths = (tests.width_out, tests.width_in)
-        s_out, s_in = offsets(tests.F_close, tests.F_open, outer, inner, a0, self.shift > 0,
-                              widths)
+        # the joined closing/opening arrays: offsets reads the outer values on the outer
+        # front and the inner values on the inner front
+        widths = (tests.width, tests.width)
+        s_out, s_in = offsets(tests.F, tests.F, outer, inner, a0, self.shift > 0, widths)
         pinned = self.pinned
         stale = None
         if self.criterion != "predictor" and self.p.mean() > 0 and pinned.any():
@@ -400,14 +403,16 @@ class _FrontIteration:
         # (unverified_pins)
         stuck = pinned & ~blk & inner & (s_in == -np.inf)
         s_out, s_in = held_offsets(s_out, s_in, outer, inner & held)
-        self.moves_to = None
         if self.shift == 0.0:  # viscoelastic: the mask moves by the square-root fit's edge
-            self.moves_to = held_offsets(*offsets(tests.F_close, tests.F_open, outer, inner,
-                                                  a0, False, widths, field=True),
-                                         outer, inner & held)
+            to, to_in = held_offsets(*offsets(tests.F, tests.F, outer, inner, a0, False,
+                                              widths, field=True), outer, inner & held)
+            to[inner] = to_in[inner]  # one array: moves reads each side on its own front
+            self.moves_to = to
+            del to_in
         add, remove = self._moves(w, s_out, s_in)
         cell = op.cell
-        res_out, res_in = resolved_front(mask, outer, inner, a0, (cell.hx, cell.hy))
+        res_out, res_in = resolved_front(mask, outer, inner, a0, (cell.hx, cell.hy),
+                                         tests.bands.inner_dist)
         self.stale = overloaded_pins(stale, self.p, res_in & ~held,
                                      np.sqrt(release_bound(op)))
         bracket = bracketed(tests, add, remove, self.last_change)
@@ -436,8 +441,8 @@ class _FrontIteration:
         if self.moves_to is None:
             return moves(self.tests, self.mask, s_out, s_in, w, self.pinned, self.hmin,
                          self.wide, self.front_tol)
-        add, remove = moves(self.tests, self.mask, *self.moves_to, w, self.pinned, self.hmin,
-                            self.wide, self.front_tol)
+        add, remove = moves(self.tests, self.mask, self.moves_to, self.moves_to, w,
+                            self.pinned, self.hmin, self.wide, self.front_tol)
         beyond = np.ones(self.mask.shape, bool)
         a_lin, r_lin = moves(self.tests, self.mask, s_out, s_in, w, self.pinned, self.hmin,
                              beyond, self.front_tol)
@@ -540,6 +545,9 @@ class _FrontIteration:
     def _result(self, progress) -> AdhesiveState:
         op, cell, mask, p = self.op, self.op.cell, self.mask, self.p
         status, message, converged = self.status, self.message, self.converged
+        self.moves_to = None  # freed before the final state's adjoint solves
+        if self.s_out is None:  # the last tests failed: no balanced edge
+            self.s_out = self.s_in = np.full(cell.shape, np.nan)
         pm = float(p.mean())
         if status == "partial":  # the mean pressure carried by the sub-cell front
             pm = at_front(self.tests, np.where(self.res_out, self.s_out, np.nan),

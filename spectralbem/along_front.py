@@ -41,9 +41,11 @@ def band_widths(b, area_out, area_in, normal, sigma: float, a0: float):
     for area, front in ((area_out, b.outer_front), (area_in, b.inner_front)):
         ok = front & (area > 0)
         # Σ K area / Σ K ds: the ratio area/ds averaged with the weights ds
-        with np.errstate(invalid="ignore", divide="ignore"):
-            ratio = np.where(ok, area / ds, np.nan)
-        out.append(np.clip(smooth_along_front(ratio, ok, sig, ds, normal), lo * a0, hi * a0))
+        ratio = np.full(area.shape, np.nan)
+        ratio[ok] = area[ok] / ds[ok]
+        sm = smooth_along_front(ratio, ok, sig, ds, normal)
+        del ratio
+        out.append(np.clip(sm, lo * a0, hi * a0, out=sm))  # in place: nan stays nan
     return out
 
 
@@ -130,7 +132,7 @@ def _smooth_on_front_graph(F, ok, sigma: float, weights, normal) -> np.ndarray:
     shape = F.shape
     idx = np.flatnonzero(ok)
     n = idx.size
-    pos = np.full(F.size, -1, np.int64)
+    pos = np.full(F.size, -1, np.int32 if F.size < 2**31 else np.int64)
     pos[idx] = np.arange(n)
     i, j = np.divmod(idx, shape[1])
     nx_, ny_ = normal[0].ravel()[idx], normal[1].ravel()[idx]

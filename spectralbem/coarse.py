@@ -54,8 +54,8 @@ def _level_set(state, spacing) -> np.ndarray:
     mask = state.contact
     h = min(spacing)
     pad = 4
-    d_in, _, _ = _wrap_edt(mask, spacing, pad)  # inside: distance to the nearest outside
-    d_out, _, _ = _wrap_edt(~mask, spacing, pad)
+    d_in, _, _ = _wrap_edt(mask, spacing, pad, indices=False)  # inside: to the nearest outside
+    d_out, _, _ = _wrap_edt(~mask, spacing, pad, indices=False)
     phi = np.where(mask, d_in - 0.5 * h, -(d_out - 0.5 * h))
     for s in (state.offset_out, state.offset_in):
         if s is not None:

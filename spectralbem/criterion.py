@@ -30,6 +30,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy import ndimage
 
+from .adjoint import complete_adjoint
 from .along_front import band_widths, patch_sigmas, smooth_along_front
 from .masked import solve_masked
 from .spectral import SpectralOperator
@@ -74,14 +75,16 @@ def loose_band_rtol(rtol: float) -> float:
     return max(rtol, min(BAND_RTOL_FACTOR * rtol, 1e-6))
 
 
-def _wrap_edt(free: np.ndarray, sampling, pad: int):
-    """Periodic Euclidean distance (and nearest-target indices) to the cells where free is
-    False: ndimage's EDT on a wrap-padded copy."""
+def _wrap_edt(free: np.ndarray, sampling, pad: int, indices: bool = True):
+    """Periodic Euclidean distance (and nearest-target indices, None without ``indices``)
+    to the cells where free is False: ndimage's EDT on a wrap-padded copy."""
     nx, ny = free.shape
     px, py = min(pad, nx), min(pad, ny)
     big = np.pad(free, ((px, px), (py, py)), mode="wrap")
-    dist, (ix, iy) = ndimage.distance_transform_edt(big, sampling=sampling, return_indices=True)
     sl = (slice(px, px + nx), slice(py, py + ny))
+    if not indices:
+        return ndimage.distance_transform_edt(big, sampling=sampling)[sl].copy(), None, None
+    dist, (ix, iy) = ndimage.distance_transform_edt(big, sampling=sampling, return_indices=True)
     # copies, so that the padded arrays are freed (views would keep them alive)
     return dist[sl].copy(), (ix[sl] - px) % nx, (iy[sl] - py) % ny
 
@@ -114,6 +117,16 @@ class Bands:
     inner_dist: np.ndarray  # distance of a cell of A to the outside (m)
     mask: np.ndarray  # the contact mask A the bands belong to
     spacing: tuple  # (hx, hy)
+    #: (nx, ny) of :attr:`normal` on the outer front cells (flat order), kept when known
+    outer_normal_: tuple | None = None
+
+    def outer_normal(self) -> tuple:
+        """(nx, ny) of the outward normal on the outer front cells, in flat order (packed:
+        no N² array is kept)."""
+        if self.outer_normal_ is None:
+            nx, ny = self.normal
+            self.outer_normal_ = (nx[self.outer_front], ny[self.outer_front])
+        return self.outer_normal_
 
     @property
     def normal(self) -> tuple:
@@ -161,13 +174,13 @@ def bands(mask: np.ndarray, hx: float, hy: float, a0: float) -> Bands:
     pad = int(np.ceil(a0 / min(hx, hy))) + 2
     tol = 1e-9 * min(hx, hy)
     # outside: distance from each outside cell to the nearest cell of A
-    d_out, _, _ = _wrap_edt(~mask, (hx, hy), pad)
+    d_out, _, _ = _wrap_edt(~mask, (hx, hy), pad, indices=False)
     outer_band = ~mask & (d_out <= a0 + tol)
     _, ox, oy = _wrap_edt(~outer_front, (hx, hy), pad)
     itype = np.int32 if mask.size < 2**31 else np.int64  # owner indices: half the memory
     outer_owner = np.where(outer_band, np.ravel_multi_index((ox, oy), mask.shape), -1
                            ).astype(itype)
-    d_in, _, _ = _wrap_edt(mask, (hx, hy), pad)
+    d_in, _, _ = _wrap_edt(mask, (hx, hy), pad, indices=False)
     inner_band = mask & (d_in <= a0 + tol)
     _, ix, iy = _wrap_edt(~inner_front, (hx, hy), pad)
     inner_owner = np.where(inner_band, np.ravel_multi_index((ix, iy), mask.shape), -1
@@ -201,13 +214,17 @@ class LayerWork(NamedTuple):
 
 @dataclass
 class FrontTest:
-    """Per-front-cell results of the closing and opening tests at fixed Δ."""
+    """Per-front-cell results of the closing and opening tests at fixed Δ.
 
-    F_close: np.ndarray  # on outer front cells (nan elsewhere)
-    F_open: np.ndarray  # on inner front cells
-    G_close: np.ndarray  # conservative release rate (δL - δL_P)/δA per outer front cell (J/m²)
-    dLP_cells: np.ndarray  # δL_P of each band cell (adjoint), J: closing outside A, opening in A
-    g_open: np.ndarray  # gap of each opened band cell in its opening-test state (nan elsewhere)
+    The outer and inner front cells are disjoint, so a quantity of both tests is one N²
+    array: the closing test's value on the outer front cells, the opening test's on the
+    inner ones, nan elsewhere (``F``, ``width``, ``rate``); the one-sided views (``F_close``
+    and ``F_open``, ...) are built on access.  Memory: docs/performance.md, "Scaling"."""
+
+    F: np.ndarray  # the balance: closing on outer front cells, opening on inner front cells
+    #: gap of each inner band cell in its opening-test state (flat order of the inner band;
+    #: nan where untested)
+    g_band: np.ndarray
     closing: dict  # colour -> LayerWork of the closing band
     opening: dict  # colour -> LayerWork of the opening band
     colour_map: list  # colour -> bool array of the front cells it contains
@@ -215,14 +232,78 @@ class FrontTest:
     solves: int
     converged: bool
     message: str
-    dLP_rate: np.ndarray | None = None  # δL_P/δA of each outer front cell's band (J/m²)
-    width_out: np.ndarray | None = None  # closing band's area per front length (m), outer
-    width_in: np.ndarray | None = None  # opening band's, on the inner front cells
-    dLP_rate_in: np.ndarray | None = None  # δL_P/δA of each inner front cell's opening band
-    #: what the adjoint split of δL_P still needs (:func:`complete_adjoint`): the prescribed
+    #: the bands' area per front length (m): closing on the outer, opening on the inner cells
+    width: np.ndarray | None = None
+    #: filled by ``adjoint.complete_adjoint``: δL_P/δA (J/m²) of each front cell's band (closing
+    #: on the outer cells; opening on the inner cells in a viscoelastic scene, ``rate_in``),
+    #: δL_P (J) of each band cell (closing: the outer band's cells in flat order, opening:
+    #: the inner band's) and the conservative release rate (δL − δL_P)/δA of the outer front
+    #: cells (flat indices, values)
+    rate: np.ndarray | None = None
+    rate_in: bool = False
+    dLP_band: tuple | None = None
+    g_close: tuple | None = None
+    #: what the adjoint split of δL_P still needs (``adjoint.complete_adjoint``): the prescribed
     #: w and, per colour, the owners, band cells and weights of the closing and opening
-    #: tests; None once G_close, dLP_rate, dLP_rate_in and dLP_cells are filled
+    #: tests; None once filled
     pending: dict | None = None
+
+    def _side(self, field_, outer: bool):
+        if field_ is None:
+            return None
+        return np.where(self.bands.outer_front if outer else self.bands.inner_front, field_,
+                        np.nan)
+
+    @property
+    def dLP_cells(self):
+        """δL_P (J) of each band cell on the grid: closing outside A, opening in A (0
+        elsewhere; None before the split)."""
+        if self.dLP_band is None:
+            return None
+        out = np.zeros(self.F.shape)
+        out.ravel()[np.flatnonzero(self.bands.outer_band)] = self.dLP_band[0]
+        out.ravel()[np.flatnonzero(self.bands.inner_band)] += self.dLP_band[1]
+        return out
+
+    @property
+    def g_open(self):
+        """The opened cells' gaps on the grid (nan off the inner band)."""
+        out = np.full(self.F.shape, np.nan)
+        out.ravel()[np.flatnonzero(self.bands.inner_band)] = self.g_band
+        return out
+
+    @property
+    def F_close(self):
+        return self._side(self.F, True)
+
+    @property
+    def F_open(self):
+        return self._side(self.F, False)
+
+    @property
+    def width_out(self):
+        return self._side(self.width, True)
+
+    @property
+    def width_in(self):
+        return self._side(self.width, False)
+
+    @property
+    def dLP_rate(self):
+        return self._side(self.rate, True)
+
+    @property
+    def dLP_rate_in(self):
+        return self._side(self.rate, False) if self.rate_in else None
+
+    @property
+    def G_close(self):
+        """(δL − δL_P)/δA on the outer front cells (nan elsewhere; None before the split)."""
+        if self.g_close is None:
+            return None
+        out = np.full(self.F.shape, np.nan)
+        out.ravel()[self.g_close[0]] = self.g_close[1]
+        return out
 
 
 def _balance(dL, cells, owner, dg_area, F, W) -> None:  # dg_area: Δγ·a on ``cells``
@@ -305,7 +386,7 @@ class _Tester:
     def close(self, D):
         """Close the band D at fixed Δ: per-cell δL_j = ½ g_j(A) t_j(A ∪ D) a (Eq. 8, t = −p),
         a·p_j(A ∪ D) on the band (what the adjoint split of δL_P weighs,
-        :func:`complete_adjoint`) and the layer's :class:`LayerWork` from Eqs. (8)-(10) with
+        ``adjoint.complete_adjoint``) and the layer's :class:`LayerWork` from Eqs. (8)-(10) with
         the actual fields."""
         a, p, u, w = self.area, self.p, self.u, self.w
         pp = self.solve(self.mask | D)
@@ -357,7 +438,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     ``smoothing_per_radius`` times the front radius of large patches (:func:`patch_sigmas`).
     ``adjoint``: split δL_P over the closing bands' cells now (G_close, dLP_rate, dLP_cells;
     one transposed solve in a viscoelastic scene); False leaves it to
-    :func:`complete_adjoint` — the balance itself (F) never needs it, only the outputs of
+    ``adjoint.complete_adjoint`` — the balance itself (F) never needs it, only the outputs of
     the final state do.  ``band_rtol``: the band states' solve tolerance (None: ``rtol``;
     :func:`loose_band_rtol` for an intermediate state whose tests only move the front).
     """
@@ -371,18 +452,18 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
         u = op.apply(p)
     tester = _Tester(op, w, mask, p, u, dg, rtol if band_rtol is None else band_rtol,
                      observables or {})
-    F_close = np.full(mask.shape, np.nan)
-    F_open = np.full(mask.shape, np.nan)
-    g_open = np.full(mask.shape, np.nan)
+    # one array per quantity: the outer (closing) and inner (opening) front cells are disjoint
+    F = np.full(mask.shape, np.nan)
+    ib = np.flatnonzero(b.inner_band)
+    g_band = np.full(ib.size, np.nan)
     force_close = np.zeros(mask.shape, bool)
-    W_close = np.zeros(mask.shape)  # Δγ·area of each owner's band (weights along the front)
-    W_open = np.zeros(mask.shape)
+    W = np.zeros(mask.shape)  # Δγ·area of each owner's band (weights along the front)
     closing, opening = {}, {}
     pending = {"w": w, "close": [], "open": []}  # what the adjoint split needs
     normal = b.normal  # two N² arrays, computed once for the colours, averages and widths
+    b.outer_normal_ = (normal[0][b.outer_front], normal[1][b.outer_front])
     cols = colours(b, vhat, op.viscoelastic, normal)
-    area_out = np.zeros(mask.shape)  # each front cell's band area (widths interpolated)
-    area_in = np.zeros(mask.shape)
+    band_area = np.zeros(mask.shape)  # each front cell's band area (widths interpolated)
     own, own_i = b.outer_owner.ravel(), b.inner_owner.ravel()
     d_out, d_in = b.outer_dist.ravel(), b.inner_dist.ravel()
     tol = 1e-9 * hmin
@@ -407,9 +488,9 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
                              "area": np.full(cells.size, area)}, own[cells], owners, wt, acc)
             closing[ci] = _weighted(parts)
             has = acc["dg"] > 0
-            F_close.ravel()[owners[has]] = acc["dL"][has] / acc["dg"][has] - 1.0
-            W_close.ravel()[owners[has]] = acc["dg"][has]
-            area_out.ravel()[owners] = acc["area"]
+            F.ravel()[owners[has]] = acc["dL"][has] / acc["dg"][has] - 1.0
+            W.ravel()[owners[has]] = acc["dg"][has]
+            band_area.ravel()[owners] = acc["area"]
             pending["close"].append((owners[has], bands_, acc["dL"][has], acc["area"][has]))
         band = (own_i >= 0) & col_flat[np.maximum(own_i, 0)]
         if band.any():
@@ -421,93 +502,39 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
                 cells, dL, gr, layer = tester.open(R)
                 parts.append((wt, layer))
                 bands_.append((cells, wt))
-                g_open.ravel()[cells] = gr  # the widest band's gaps last
+                g_band[np.searchsorted(ib, cells)] = gr  # the widest band's gaps last
                 _owner_sums({"dL": dL, "dg": _dg_area(dg, area, cells),
                              "area": np.full(cells.size, area)}, own_i[cells], owners, wt,
                             acc)
             opening[ci] = _weighted(parts)
             has = acc["dg"] > 0
-            F_open.ravel()[owners[has]] = acc["dL"][has] / acc["dg"][has] - 1.0
-            W_open.ravel()[owners[has]] = acc["dg"][has]
-            area_in.ravel()[owners] = acc["area"]
+            F.ravel()[owners[has]] = acc["dL"][has] / acc["dg"][has] - 1.0
+            W.ravel()[owners[has]] = acc["dg"][has]
+            band_area.ravel()[owners] = acc["area"]
             pending["open"].append((owners[has], bands_, acc["area"][has]))
     sigma = _sigma_cells(default_smoothing(front_smoothing, op.viscoelastic), a0, hmin,
                          mask.shape)
-    width_out, width_in = band_widths(b, area_out, area_in, normal, sigma, a0)
+    width = _joined(b, *band_widths(b, band_area, band_area, normal, sigma, a0))
+    del band_area
     # ratio of sums along the front: each front cell weighs by its band's Δγ·area, so that
     # owners of unequal band patches (staircase corners) do not bias the local balance
-    F_close, F_open = _front_average(b, F_close, W_close, F_open, W_open, sigma,
-                                     smoothing_per_radius, normal)
-    del normal
-    F_close[force_close] = -np.inf
-    nan = np.full(mask.shape, np.nan)
-    out = FrontTest(F_close, F_open, nan, np.zeros(mask.shape), g_open, closing, opening, cols,
-                    b, tester.solves, bool(tester.ok), tester.msg, nan.copy(), width_out,
-                    width_in, pending=pending)
+    F = _joined(b, *_front_average(b, F, W, F, W, sigma, smoothing_per_radius, normal))
+    del normal, W
+    F[force_close] = -np.inf
+    out = FrontTest(F, g_band, closing, opening, cols, b, tester.solves, bool(tester.ok),
+                    tester.msg, width, pending=pending)
     return complete_adjoint(out, op, mask, p, rtol) if adjoint else out
 
 
-def complete_adjoint(tests: FrontTest, op: SpectralOperator, mask: np.ndarray, p: np.ndarray,
-                     rtol: float = 1e-10) -> FrontTest:
-    """Fill the adjoint split of δL_P (Eq. 10) over the band cells of ``tests`` (made on
-    ``mask`` with its solution ``p``) in place and return ``tests`` (a no-op once filled).
-
-    Closing bands: δL_P,j = a p_j(A ∪ D) ψ_j with ψ the adjoint weights of A
-    (:func:`adjoint_weights`, one transposed solve); the rate δL_P/δA and G_close =
-    (δL − δL_P)/δA of each outer front cell.  Opening bands: opening R is the closure of R
-    from A ∖ R, so δL_P,j = a p_j(A) ψ'_j with ψ' the weights of A ∖ R (one solve for its
-    pressure and one transposed solve per opening test); the rate of each inner front cell
-    (``dLP_rate_in``), with which the release rate is interpolated to the balanced edge
-    (front.release_rates).  An elastic scene has δL_P ≡ 0: no solve."""
-    pend = tests.pending
-    if pend is None:
-        return tests
-    visco = bool(op.viscoelastic)
-    a = op.cell.cell_area
-    psi = None
-    if visco and pend["close"]:
-        psi = adjoint_weights(op, mask, p, rtol).ravel()
-        tests.solves += 1
-    own = tests.bands.outer_owner.ravel()
-    for owners, bands_, dL, area in pend["close"]:
-        dLP = np.zeros(owners.size)
-        for cells, wt, apD in bands_ if psi is not None else ():
-            dLPj = apD * psi[cells]
-            tests.dLP_cells.ravel()[cells] += wt * dLPj
-            dLP += wt * _owner_bincount(dLPj, own[cells], owners)
-        tests.G_close.ravel()[owners] = (dL - dLP) / area
-        tests.dLP_rate.ravel()[owners] = dLP / area
-    if visco:
-        tests.dLP_rate_in = np.full(mask.shape, np.nan)
-        own = tests.bands.inner_owner.ravel()
-        for owners, bands_, area in pend["open"]:
-            dLP = np.zeros(owners.size)
-            for cells, wt in bands_:
-                rest = mask.copy()
-                rest.ravel()[cells] = False
-                if not rest.any():  # opening detaches: no stress, no work of any kind
-                    continue
-                res = solve_masked(op, rest, pend["w"], x0=p, rtol=rtol)
-                tests.solves += 1
-                if not res.converged:  # no split: the closing band's rate alone (nan here)
-                    dLP[:] = np.nan
-                    break
-                psi_r = adjoint_weights(op, rest, res.field, rtol).ravel()
-                tests.solves += 1
-                dLPj = a * p.ravel()[cells] * psi_r[cells]
-                tests.dLP_cells.ravel()[cells] += wt * dLPj
-                dLP += wt * _owner_bincount(dLPj, own[cells], owners)
-            tests.dLP_rate_in.ravel()[owners] = dLP / area
-    tests.pending = None
-    return tests
-
-
-def _owner_bincount(values, owner, owners):
-    """Σ values per entry of the sorted ``owners`` (cells whose owner is not listed: none)."""
-    slot = np.searchsorted(owners, owner)
-    slot = np.minimum(slot, owners.size - 1)
-    keep = owners[slot] == owner
-    return np.bincount(slot[keep], weights=values[keep], minlength=owners.size)
+def _joined(b: Bands, outer_values: np.ndarray, inner_values: np.ndarray) -> np.ndarray:
+    """One array of a closing (outer front) and an opening (inner front) quantity, nan
+    elsewhere (``outer_values`` reused)."""
+    out = outer_values
+    if out is inner_values:
+        out = out.copy()
+    out[~(b.outer_front | b.inner_front)] = np.nan
+    out[b.inner_front] = inner_values[b.inner_front]
+    return out
 
 
 def _mirror(field_: np.ndarray, valid: np.ndarray, cells: np.ndarray, owners: np.ndarray,
@@ -553,7 +580,7 @@ def predictor_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np
     normal = b.normal
     F_close = np.full(mask.shape, np.nan)
     F_open = np.full(mask.shape, np.nan)
-    g_open = np.full(mask.shape, np.nan)
+    g_band = np.zeros(0)
     W_close = np.zeros(mask.shape)
     W_open = np.zeros(mask.shape)
 
@@ -567,25 +594,12 @@ def predictor_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np
     if cells.size:
         own = b.inner_owner.ravel()[cells]
         g_minus = _mirror(g, ~mask, cells, own, normal, a0, b.spacing)
-        g_open.ravel()[cells] = g_minus
+        g_band = g_minus
         dL = -0.5 * area * np.nan_to_num(g_minus) * p.ravel()[cells]
         _balance(dL, cells, own, _dg_area(dg, area, cells), F_open, W_open)
     sigma = _sigma_cells(default_smoothing(front_smoothing, op.viscoelastic), a0, hmin,
                          mask.shape)
     F_close, F_open = _front_average(b, F_close, W_close, F_open, W_open, sigma,
                                      smoothing_per_radius)
-    nan = np.full(mask.shape, np.nan)
-    return FrontTest(F_close, F_open, nan, np.zeros(mask.shape), g_open, {}, {},
-                     [np.ones(mask.shape, bool)], b, 0, True, "predictor (no solves)")
-
-
-def adjoint_weights(op: SpectralOperator, mask: np.ndarray, p: np.ndarray,
-                    rtol: float = 1e-10) -> np.ndarray:
-    """ψ = -C^O p - Cᵀ λ̃ with C_AAᵀ λ = (-C^O p)|_A (one transposed masked solve).
-
-    For any closure A → A ∪ D at fixed Δ, Eq. (10) splits exactly into cells:
-    δL_P = a Σ_{j∈D} p_j(A ∪ D) ψ_j (docs/derivations.md §11), whatever D is.
-    """
-    r = -op.apply_odd(p)
-    res = solve_masked(op, mask, r, rtol=rtol, transpose=True)
-    return r - op.apply_transpose(res.field)
+    return FrontTest(_joined(b, F_close, F_open), g_band, {}, {}, [np.ones(mask.shape, bool)],
+                     b, 0, True, "predictor (no solves)")

@@ -49,13 +49,15 @@ def at_front(tests, offset_out, base: dict, a0: float) -> dict:
     the mask state's values (names of the tests' observables, e.g. ``mean_pressure``);
     ``offset_out``: nan on front cells that must not move (unresolved patches)."""
     b = tests.bands
-    ds = front_length_weights(b.normal, *b.spacing)
+    io = np.flatnonzero(b.outer_front)  # on the outer front cells only (packed)
+    ds = front_length_weights(b.outer_normal(), *b.spacing)
     # only a tested interval is interpolated: offsets beyond ±a0 (extrapolations of a front
     # far from balance) and untested cells (nan, ±inf) count as ±a0 and 0
-    s = np.clip(np.where(np.isfinite(offset_out), offset_out, 0.0), -a0, a0)
+    s = np.asarray(offset_out, float).ravel()[io]
+    s = np.clip(np.where(np.isfinite(s), s, 0.0), -a0, a0)
     out = dict(base)
     for ci, col in enumerate(tests.colour_map):
-        sel = b.outer_front & col
+        sel = col.ravel()[io]
         L = float(np.sum(ds[sel]))
         if L == 0.0:
             continue
@@ -266,10 +268,12 @@ def band_crack_offset(F_close, F_open, a0: float):
     return np.where(fit, s_k, sub_cell_offset(Fc, Fo, a0))
 
 
-def patch_labels(mask: np.ndarray, a0: float, spacing):
+def patch_labels(mask: np.ndarray, a0: float, spacing, d_in: np.ndarray | None = None):
     """(labels, resolved per label): 4-connected contact patches (periodic images not
     merged) and whether each can hold a band of width a0 — some cell of it lies at least a0
-    from the outside (a disc of radius ≥ a0, a strip of half-width ≥ a0); label 0: outside."""
+    from the outside (a disc of radius ≥ a0, a strip of half-width ≥ a0); label 0: outside.
+    ``d_in``: the distance of each cell of the mask to the outside if the caller has it
+    (criterion.Bands.inner_dist, exact up to the widest band and beyond a0)."""
     from scipy import ndimage
 
     from .criterion import _wrap_edt
@@ -278,7 +282,8 @@ def patch_labels(mask: np.ndarray, a0: float, spacing):
     if n == 0:
         return lab, np.zeros(1, bool)
     hmin = min(spacing)
-    d_in, _, _ = _wrap_edt(mask, spacing, int(np.ceil(a0 / hmin)) + 2)
+    if d_in is None:
+        d_in, _, _ = _wrap_edt(mask, spacing, int(np.ceil(a0 / hmin)) + 2, indices=False)
     ok = np.zeros(n + 1, bool)
     ok[lab[d_in >= a0 * (1 - 1e-9)]] = True  # the labels of the cells a0 deep or more
     ok[0] = False
@@ -311,10 +316,11 @@ def small_patch_diameter(mask: np.ndarray, a0: float, spacing) -> float:
     return float(2.0 * np.sqrt(area[min(k, area.size - 1)] / np.pi))
 
 
-def resolved_front(mask, outer, inner, a0: float, spacing):
+def resolved_front(mask, outer, inner, a0: float, spacing, d_in=None):
     """(outer, inner) front cells that belong to resolved patches (an outer front cell
-    belongs to each patch it touches; resolved if one of them is)."""
-    lab, ok = patch_labels(mask, a0, spacing)
+    belongs to each patch it touches; resolved if one of them is); ``d_in`` as in
+    :func:`patch_labels`."""
+    lab, ok = patch_labels(mask, a0, spacing, d_in)
     return touching(mask & ok[lab]) & outer, inner & ok[lab]
 
 

@@ -195,7 +195,9 @@ def blocked(tests, w):
     """Cells whose opening would leave the surfaces interpenetrating (non-penetration holds
     them closed whatever the balance says)."""
     gtol = 1e-12 * max(1.0, float(np.abs(w).max()))
-    return tests.g_open < -gtol
+    out = np.zeros(tests.F.shape, bool)
+    out.ravel()[np.flatnonzero(tests.bands.inner_band)] = tests.g_band < -gtol
+    return out
 
 
 def predictor_moves(tests, mask, outer, w, pinned, hmin):

@@ -122,10 +122,17 @@ class Cell:
         return w[None, :]
 
     def derivative_multiplier(self, direction) -> np.ndarray:
-        """Half-spectrum multiplier i q·d̂ of the spectral derivative along unit vector d̂."""
+        """Half-spectrum multiplier i q·d̂ of the spectral derivative along unit vector d̂,
+        hermitian on the grid: i q·d̂ is odd, so its Nyquist components (the self-conjugate
+        bins of an even-sized axis) are zero.  Built on the half spectrum (one array)."""
         dx, dy = direction
-        qx, qy = self.wavevectors(half=False)
-        return self.hermitian_half(1j * (qx * dx + qy * dy))
+        qx, qy = self.wavevectors(half=True)
+        qx, qy = qx.copy(), qy.copy()
+        if self.Nx % 2 == 0:
+            qx[self.Nx // 2] = 0.0
+        if self.Ny % 2 == 0:
+            qy[:, -1] = 0.0
+        return 1j * (qx * dx + qy * dy)
 
     def derivative(self, f: np.ndarray, direction=(1.0, 0.0)) -> np.ndarray:
         """Spectral directional derivative d̂·∇f (Nyquist components zeroed, exact real matrix)."""

@@ -1,0 +1,102 @@
+"""The adjoint split of the work of the internal stresses δL_P (Eq. 10) over the cells of the
+front tests' bands (docs/derivations.md §11): what the release rates G, G1, G2 and μ_a of a
+state need (:func:`spectralbem.front.release_rates`), filled once, for the final state."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .masked import solve_masked
+from .spectral import SpectralOperator
+
+__all__ = ["complete_adjoint", "adjoint_weights"]
+
+
+def complete_adjoint(tests, op: SpectralOperator, mask: np.ndarray, p: np.ndarray,
+                     rtol: float = 1e-10):
+    """Fill the adjoint split of δL_P (Eq. 10) over the band cells of ``tests`` (made on
+    ``mask`` with its solution ``p``) in place and return ``tests`` (a no-op once filled).
+
+    Closing bands: δL_P,j = a p_j(A ∪ D) ψ_j with ψ the adjoint weights of A
+    (:func:`adjoint_weights`, one transposed solve); the rate δL_P/δA and G_close =
+    (δL − δL_P)/δA of each outer front cell.  Opening bands: opening R is the closure of R
+    from A ∖ R, so δL_P,j = a p_j(A) ψ'_j with ψ' the weights of A ∖ R (one solve for its
+    pressure and one transposed solve per opening test); the rate of each inner front cell
+    (``dLP_rate_in``), with which the release rate is interpolated to the balanced edge
+    (front.release_rates).  An elastic scene has δL_P ≡ 0: no solve."""
+    pend = tests.pending
+    if pend is None:
+        return tests
+    visco = bool(op.viscoelastic)
+    a = op.cell.cell_area
+    b = tests.bands
+    ob, ib = np.flatnonzero(b.outer_band), np.flatnonzero(b.inner_band)
+    dLP_out, dLP_in = np.zeros(ob.size), np.zeros(ib.size)
+    tests.rate = np.full(mask.shape, np.nan)
+    g_idx, g_val = [], []
+    psi = None
+    if visco and pend["close"]:
+        psi = adjoint_weights(op, mask, p, rtol).ravel()
+        tests.solves += 1
+    own = tests.bands.outer_owner.ravel()
+    for owners, bands_, dL, area in pend["close"]:
+        dLP = np.zeros(owners.size)
+        for cells, wt, apD in bands_ if psi is not None else ():
+            dLPj = apD * psi[cells]
+            dLP_out[np.searchsorted(ob, cells)] += wt * dLPj
+            dLP += wt * _owner_bincount(dLPj, own[cells], owners)
+        g_idx.append(owners)
+        g_val.append((dL - dLP) / area)
+        tests.rate.ravel()[owners] = dLP / area
+    del psi  # freed before the opening bands' solves
+    tests.g_close = (np.concatenate(g_idx or [np.zeros(0, int)]),
+                     np.concatenate(g_val or [np.zeros(0)]))
+    if visco:
+        tests.rate_in = True
+        own = tests.bands.inner_owner.ravel()
+        for owners, bands_, area in pend["open"]:
+            dLP = np.zeros(owners.size)
+            for cells, wt in bands_:
+                rest = mask.copy()
+                rest.ravel()[cells] = False
+                if not rest.any():  # opening detaches: no stress, no work of any kind
+                    continue
+                res = solve_masked(op, rest, pend["w"], x0=p, rtol=rtol)
+                tests.solves += 1
+                if not res.converged:  # no split: the closing band's rate alone (nan here)
+                    dLP[:] = np.nan
+                    break
+                psi_r = adjoint_weights(op, rest, res.field, rtol).ravel()
+                del res  # each band's fields are freed before the next band's solves
+                tests.solves += 1
+                dLPj = a * p.ravel()[cells] * psi_r[cells]
+                del psi_r
+                dLP_in[np.searchsorted(ib, cells)] += wt * dLPj
+                dLP += wt * _owner_bincount(dLPj, own[cells], owners)
+            tests.rate.ravel()[owners] = dLP / area
+    tests.dLP_band = (dLP_out, dLP_in)
+    tests.pending = None
+    return tests
+
+
+def _owner_bincount(values, owner, owners):
+    """Σ values per entry of the sorted ``owners`` (cells whose owner is not listed: none)."""
+    slot = np.searchsorted(owners, owner)
+    slot = np.minimum(slot, owners.size - 1)
+    keep = owners[slot] == owner
+    return np.bincount(slot[keep], weights=values[keep], minlength=owners.size)
+
+
+def adjoint_weights(op: SpectralOperator, mask: np.ndarray, p: np.ndarray,
+                    rtol: float = 1e-10) -> np.ndarray:
+    """ψ = -C^O p - Cᵀ λ̃ with C_AAᵀ λ = (-C^O p)|_A (one transposed masked solve).
+
+    For any closure A → A ∪ D at fixed Δ, Eq. (10) splits exactly into cells:
+    δL_P = a Σ_{j∈D} p_j(A ∪ D) ψ_j (docs/derivations.md §11), whatever D is.
+    """
+    r = -op.apply_odd(p)
+    res = solve_masked(op, mask, r, rtol=rtol, transpose=True)
+    t = op.apply_transpose(res.field)
+    del res
+    r -= t  # in place: one N² array fewer at the adjoint's peak
+    return r

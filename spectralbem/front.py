@@ -136,6 +136,8 @@ def release_rates(op, tests, where, dgamma, ds=None, offset_out=None, a0=None):
     dg = np.broadcast_to(np.asarray(dgamma, float), cell.shape)
     rate = (tests.dLP_rate if offset_out is None
             else rate_at_edge(tests, offset_out, a0))
+    if rate is None:  # tests without the adjoint split (a state that did not balance)
+        rate = np.full(cell.shape, np.nan)
     G = np.where(where & np.isfinite(rate), dg - rate, np.nan)
     ok = np.isfinite(G)
     avg = []

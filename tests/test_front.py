@@ -206,3 +206,26 @@ def test_estimated_jkr_edge_does_not_follow_the_mask():
     assert spread[True] < 0.05, spread
     assert spread[False] > 0.15, spread  # the defect the widths remove
     assert abs(np.mean(est[True]) / aJ - 1) < 0.01
+
+
+def test_release_rates_before_the_adjoint_split_are_nan():
+    """Front tests without the adjoint split of δL_P (an intermediate state, or a state that
+    did not balance) carry no release rate: G is nan on the front and so are G1 and G2 —
+    never a number made up, never an exception; the split fills them (elastic: G = Δγ)."""
+    from spectralbem.adjoint import complete_adjoint
+    from spectralbem.criterion import front_tests
+    from spectralbem.front import release_rates
+    from spectralbem.materials import Elastic
+    from spectralbem.spectral import Cell, SpectralOperator
+
+    n = 32
+    mask = np.zeros((n, n), bool)
+    mask[10:22] = True
+    op = SpectralOperator(Cell(1.0, 1.0, n, n), Elastic(1.0, 0.0))
+    w, p = np.zeros(mask.shape), np.where(mask, 1.0, 0.0)
+    t = front_tests(op, w, mask, p, 1.0, 1.0 / n, adjoint=False)
+    G, G1, G2 = release_rates(op, t, t.bands.outer_front, 1.0)
+    assert np.isnan(G).all() and np.isnan(G1) and np.isnan(G2)
+    complete_adjoint(t, op, mask, p)
+    G, G1, G2 = release_rates(op, t, t.bands.outer_front, 1.0)
+    assert np.all(G[t.bands.outer_front] == 1.0) and G1 == 1.0 and G2 == 1.0

@@ -128,6 +128,57 @@ def fused_cg(system: PackedSystem, r0: np.ndarray, rtol: float, maxiter: int):
     return x, used, rel
 
 
+#: rows of each block of the fused GMRES basis (products against it are BLAS 2 per block)
+BASIS_BLOCK = 32
+
+
+class _Basis:
+    """The Arnoldi basis of :func:`fused_gmres`, in blocks of ``BASIS_BLOCK`` rows allocated
+    as it grows: no block is ever copied (growing never holds an old and a new basis at
+    once) and at most one block's rows are allocated beyond those in use."""
+
+    def __init__(self, n: int, m: int):
+        self.n, self.m = n, m
+        self.blocks = [np.empty((min(m, BASIS_BLOCK) + 1, n))]
+        self.starts = [0]
+
+    def _block(self, k: int):
+        i = int(np.searchsorted(self.starts, k, side="right")) - 1
+        return self.blocks[i], k - self.starts[i]
+
+    def set(self, k: int, v: np.ndarray) -> None:
+        """Row k := v (a block is added when k is past the last one)."""
+        end = self.starts[-1] + self.blocks[-1].shape[0]
+        if k == end:
+            self.starts.append(end)
+            self.blocks.append(np.empty((min(BASIS_BLOCK, self.m + 1 - end), self.n)))
+        b, i = self._block(k)
+        b[i] = v
+
+    def _parts(self, k: int):
+        """(block rows, offset) of the first k rows."""
+        for b, s in zip(self.blocks, self.starts, strict=True):
+            if s >= k:
+                break
+            yield b[: min(b.shape[0], k - s)], s
+
+    def dot(self, k: int, w: np.ndarray) -> np.ndarray:
+        """V[:k] w."""
+        return np.concatenate([b @ w for b, _s in self._parts(k)])
+
+    def subtract(self, k: int, w: np.ndarray, h: np.ndarray) -> None:
+        """w −= V[:k]ᵀ h, in place."""
+        for b, s in self._parts(k):
+            w -= b.T @ h[s: s + b.shape[0]]
+
+    def combine(self, k: int, y: np.ndarray) -> np.ndarray:
+        """V[:k]ᵀ y."""
+        out = np.zeros(self.n)
+        for b, s in self._parts(k):
+            out += b.T @ y[s: s + b.shape[0]]
+        return out
+
+
 def fused_gmres(system: PackedSystem, r0: np.ndarray, rtol: float, maxiter: int):
     """Right-preconditioned restarted GMRES for the correction x of ``A M x' = r0``, x = M x'.
 
@@ -143,7 +194,7 @@ def fused_gmres(system: PackedSystem, r0: np.ndarray, rtol: float, maxiter: int)
     if beta0 == 0.0 or n == 0:
         return x, 0, 0.0
     m = int(max(10, min(RESTART_MAX, RESTART_BYTES // (8 * n) - 1)))
-    V = np.empty((min(m, 32) + 1, n))  # grown as the iteration needs it
+    V = _Basis(n, m)  # grown as the iteration needs it
     H = np.zeros((m + 1, m))
     cs, sn = np.zeros(m), np.zeros(m)
     r = r0.copy()
@@ -154,20 +205,21 @@ def fused_gmres(system: PackedSystem, r0: np.ndarray, rtol: float, maxiter: int)
         rel = beta / beta0
         if rel <= rtol:
             break
-        V[0] = r / beta
+        V.set(0, r / beta)
         e = np.zeros(m + 1)
         e[0] = beta
         k = 0
         while k < m and used < maxiter:
-            w = system.apply(V[k])
+            b, i = V._block(k)
+            w = system.apply(b[i])
             used += 1
             wn = float(np.linalg.norm(w))
-            h = V[: k + 1] @ w
-            w -= V[: k + 1].T @ h
+            h = V.dot(k + 1, w)
+            V.subtract(k + 1, w, h)
             hn = float(np.linalg.norm(w))
             if hn < REORTHOGONALISE * wn:  # cancellation: re-orthogonalise once (DGKS)
-                h2 = V[: k + 1] @ w
-                w -= V[: k + 1].T @ h2
+                h2 = V.dot(k + 1, w)
+                V.subtract(k + 1, w, h2)
                 h += h2
                 hn = float(np.linalg.norm(w))
             H[: k + 1, k] = h
@@ -183,11 +235,9 @@ def fused_gmres(system: PackedSystem, r0: np.ndarray, rtol: float, maxiter: int)
             rel = abs(e[k]) / beta0
             if hn == 0.0 or rel <= rtol:
                 break
-            if k == V.shape[0]:
-                V = np.concatenate([V, np.empty((min(V.shape[0], m + 1 - k), n))])
-            V[k] = w / hn
+            V.set(k, w / hn)
         y = np.linalg.solve(np.triu(H[:k, :k]), e[:k]) if k else np.zeros(0)
-        x += system.precondition(V[:k].T @ y)
+        x += system.precondition(V.combine(k, y))
         if rel <= rtol or used >= maxiter:
             break
         r = r0 - system.operator(x)  # restart from the true residual (one pair)

@@ -120,11 +120,11 @@ class Bands:
     #: (nx, ny) of :attr:`normal` on the outer front cells (flat order), kept when known
     outer_normal_: tuple | None = None
 
-    def outer_normal(self) -> tuple:
+    def outer_normal(self, normal=None) -> tuple:
         """(nx, ny) of the outward normal on the outer front cells, in flat order (packed:
-        no N² array is kept)."""
+        no N² array is kept; ``normal``: :attr:`normal` if the caller has it)."""
         if self.outer_normal_ is None:
-            nx, ny = self.normal
+            nx, ny = self.normal if normal is None else normal
             self.outer_normal_ = (nx[self.outer_front], ny[self.outer_front])
         return self.outer_normal_
 
@@ -272,29 +272,12 @@ class FrontTest:
         out.ravel()[np.flatnonzero(self.bands.inner_band)] = self.g_band
         return out
 
-    @property
-    def F_close(self):
-        return self._side(self.F, True)
-
-    @property
-    def F_open(self):
-        return self._side(self.F, False)
-
-    @property
-    def width_out(self):
-        return self._side(self.width, True)
-
-    @property
-    def width_in(self):
-        return self._side(self.width, False)
-
-    @property
-    def dLP_rate(self):
-        return self._side(self.rate, True)
-
-    @property
-    def dLP_rate_in(self):
-        return self._side(self.rate, False) if self.rate_in else None
+    F_close = property(lambda self: self._side(self.F, True))
+    F_open = property(lambda self: self._side(self.F, False))
+    width_out = property(lambda self: self._side(self.width, True))
+    width_in = property(lambda self: self._side(self.width, False))
+    dLP_rate = property(lambda self: self._side(self.rate, True))
+    dLP_rate_in = property(lambda self: self._side(self.rate, False) if self.rate_in else None)
 
     @property
     def G_close(self):
@@ -461,7 +444,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     closing, opening = {}, {}
     pending = {"w": w, "close": [], "open": []}  # what the adjoint split needs
     normal = b.normal  # two N² arrays, computed once for the colours, averages and widths
-    b.outer_normal_ = (normal[0][b.outer_front], normal[1][b.outer_front])
+    b.outer_normal(normal)  # kept packed for the interpolations to the sub-cell front
     cols = colours(b, vhat, op.viscoelastic, normal)
     band_area = np.zeros(mask.shape)  # each front cell's band area (widths interpolated)
     own, own_i = b.outer_owner.ravel(), b.inner_owner.ravel()

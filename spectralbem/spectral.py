@@ -126,8 +126,7 @@ class Cell:
         hermitian on the grid: i q·d̂ is odd, so its Nyquist components (the self-conjugate
         bins of an even-sized axis) are zero.  Built on the half spectrum (one array)."""
         dx, dy = direction
-        qx, qy = self.wavevectors(half=True)
-        qx, qy = qx.copy(), qy.copy()
+        qx, qy = self.wavevectors(half=True)  # fresh arrays
         if self.Nx % 2 == 0:
             qx[self.Nx // 2] = 0.0
         if self.Ny % 2 == 0:

@@ -44,7 +44,7 @@ def complete_adjoint(tests, op: SpectralOperator, mask: np.ndarray, p: np.ndarra
         for cells, wt, apD in bands_ if psi is not None else ():
             dLPj = apD * psi[cells]
             dLP_out[np.searchsorted(ob, cells)] += wt * dLPj
-            dLP += wt * _owner_bincount(dLPj, own[cells], owners)
+            dLP += _owner_bincount(wt * dLPj, own[cells], owners)
         g_idx.append(owners)
         g_val.append((dL - dLP) / area)
         tests.rate.ravel()[owners] = dLP / area
@@ -72,7 +72,7 @@ def complete_adjoint(tests, op: SpectralOperator, mask: np.ndarray, p: np.ndarra
                 dLPj = a * p.ravel()[cells] * psi_r[cells]
                 del psi_r
                 dLP_in[np.searchsorted(ib, cells)] += wt * dLPj
-                dLP += wt * _owner_bincount(dLPj, own[cells], owners)
+                dLP += _owner_bincount(wt * dLPj, own[cells], owners)
             tests.rate.ravel()[owners] = dLP / area
     tests.dLP_band = (dLP_out, dLP_in)
     tests.pending = None

@@ -11,13 +11,13 @@ from scipy import ndimage
 
 from .front import front_length_weights
 
-__all__ = ["band_widths", "patch_sigmas", "smooth_along_front", "WIDTH_SMOOTHING",
-           "WIDTH_RANGE"]
+__all__ = ["band_widths", "layer_weights", "upper_band", "patch_sigmas",
+           "smooth_along_front", "WIDTH_SMOOTHING", "WIDTH_RANGE"]
 
 #: the effective band widths are averaged along the front over at least this many cells
 WIDTH_SMOOTHING = 2.0
 #: ... and kept within these multiples of a0 (a front cell's band is a0 wide on a straight
-#: axis-aligned front, 0.7-1 a0 on oblique digital fronts: docs/theory.md)
+#: axis-aligned front, 0.7-1 a0 on oblique digital fronts of an elastic scene: docs/theory.md)
 WIDTH_RANGE = (0.5, 1.5)
 
 
@@ -27,13 +27,14 @@ def band_widths(b, area_out, area_in, normal, sigma: float, a0: float):
     (front.front_length_weights), both averaged along the front over
     max(σ, WIDTH_SMOOTHING) cells; nan off the front.
 
-    A band holds the cells whose centre lies within a0 of the other side's centres: on an
-    axis-aligned front that is a0 of width, on an oblique digital front less (two diagonal
-    layers, √2 h of width, at a0 = 2h and 45°).  The sub-cell edge interpolates the band
-    means over their actual widths (moves.offsets): with a0 in their place the offset is
-    too large where the band is thinner, and the mask edge over-shoots its balanced edge
-    (a JKR disc's estimated radius then falls by 0.12 h per cell of mask radius; with the
-    widths by 0.02 h)."""
+    An elastic scene's band holds the cells whose centre lies within a0 of the other
+    side's centres: on an axis-aligned front that is a0 of width, on an oblique digital
+    front less (two diagonal layers, √2 h of width, at a0 = 2h and 45°); a viscoelastic
+    scene's band (:func:`layer_weights`) is a0 wide wherever its two bands bracket a0.
+    The sub-cell edge interpolates the band means over their actual widths
+    (moves.offsets): with a0 in their place the offset is too large where the band is
+    thinner, and the mask edge over-shoots its balanced edge (a JKR disc's estimated
+    radius then falls by 0.12 h per cell of mask radius; with the widths by 0.02 h)."""
     ds = front_length_weights(normal, *b.spacing)
     sig = max(sigma, WIDTH_SMOOTHING)
     lo, hi = WIDTH_RANGE
@@ -47,6 +48,70 @@ def band_widths(b, area_out, area_in, normal, sigma: float, a0: float):
         del ratio
         out.append(np.clip(sm, lo * a0, hi * a0, out=sm))  # in place: nan stays nan
     return out
+
+
+def upper_band(b, a0: float) -> np.ndarray:
+    """The cells of the wider band (bool, N²): those of ``b`` within the reach of their
+    front cell, the distance of the nearest band cell it owns beyond a0 — one digital layer
+    more along the normal (h further on an axis-aligned front, 0.6-0.8 h at 45°) — so
+    that the widths of the bands within a0 and within that reach bracket a0 closely at
+    every orientation (:func:`layer_weights`); all of ``b`` where a front cell owns none."""
+    hx, hy = b.spacing
+    tol = 1e-9 * min(hx, hy)
+    reach = np.full(b.mask.size, np.inf)
+    out = np.zeros(b.mask.shape, bool)
+    for owner, dist in ((b.outer_owner, b.outer_dist), (b.inner_owner, b.inner_dist)):
+        own, d = owner.ravel(), dist.ravel()
+        sel = np.flatnonzero((own >= 0) & (d > a0 + tol))
+        np.minimum.at(reach, own[sel], d[sel])
+    for owner, dist in ((b.outer_owner, b.outer_dist), (b.inner_owner, b.inner_dist)):
+        own, d = owner.ravel(), dist.ravel()
+        sel = np.flatnonzero(own >= 0)
+        out.ravel()[sel] = d[sel] <= reach[own[sel]] + tol
+    return out
+
+
+def layer_weights(b, a0: float, upper: np.ndarray, normal, sigma: float):
+    """(outer, inner): the weight θ of the wider band (``upper``, :func:`upper_band`) on
+    each outer and inner front cell (packed, in the flat order of ``b.outer_front``,
+    ``b.inner_front``), the band of the cells within a0 weighing 1 − θ, so that the
+    interpolated band is a0 wide along the normal at every orientation of the front.
+
+    A band of reach r holds the cells whose centre lies within r of the other side's
+    centres: on an axis-aligned front ⌊r/h⌋ h wide, on an oblique digital front less (at
+    45°, r = 2h holds two diagonal layers, √2 h wide; r = 3h four, 2√2 h).  Its actual
+    width at a front cell is its area per front length (front.front_length_weights),
+    averaged along the front over max(σ, WIDTH_SMOOTHING) cells as in :func:`band_widths`;
+    θ interpolates the two bands' widths w_lo ≤ a0 ≤ w_hi linearly to a0 (clipped to
+    [0, 1]).  On an axis-aligned front with a0 = (m + θ) h this is the whole-layer
+    weight θ of criterion.band_split."""
+    hx, hy = b.spacing
+    a, tol = hx * hy, 1e-9 * min(hx, hy)
+    ds = front_length_weights(normal, hx, hy)
+    sig = max(sigma, WIDTH_SMOOTHING)
+    out = []
+    for owner, dist, front in ((b.outer_owner, b.outer_dist, b.outer_front),
+                               (b.inner_owner, b.inner_dist, b.inner_front)):
+        own = owner.ravel()
+        sel = np.flatnonzero(own >= 0)
+        lo = dist.ravel()[sel] <= a0 + tol
+        hi = own[sel][upper.ravel()[sel]]
+        n_hi = np.bincount(hi, minlength=own.size).reshape(front.shape)
+        n_lo = np.bincount(own[sel][lo], minlength=own.size).reshape(front.shape)
+        del hi, lo
+        ok = front & (n_hi > 0)
+        w = []
+        for n in (n_lo, n_hi):
+            ratio = np.full(front.shape, np.nan)
+            ratio[ok] = n[ok] * a / ds[ok]
+            w.append(smooth_along_front(ratio, ok, sig, ds, normal)[front])
+        del n_hi, n_lo
+        w_lo, w_hi = w
+        span = w_hi - w_lo
+        with np.errstate(invalid="ignore", divide="ignore"):
+            theta = np.where(span > tol, (a0 - w_lo) / np.where(span > tol, span, 1.0), 0.0)
+        out.append(np.clip(np.nan_to_num(theta, nan=0.0), 0.0, 1.0))
+    return tuple(out)
 
 
 def patch_sigmas(mask, outer_front, inner_front, sigma: float, per_radius: float):

@@ -19,7 +19,10 @@ never used: they carry a mesh-independent bias (docs/derivations.md §9).
 Closing is evaluated with the edge at the cell boundary x_b, opening with the edge at
 x_b - a0; F is interpolated linearly between them to the sub-cell front l*.  The band is
 exactly a0 wide for any a0/h ≥ 1: the tests of m and m + 1 whole layers are interpolated in
-the width (:func:`band_weights`).  docs/theory.md, "The 2D criterion and the sub-cell front".
+the width (:func:`band_weights`); in a viscoelastic scene, where a0 is physical, at every
+orientation of the front: the band within a0 and one digital layer wider, with a weight
+per front cell from their actual widths (along_front.layer_weights).  docs/theory.md, "The
+2D criterion and the sub-cell front".
 """
 
 from __future__ import annotations
@@ -31,7 +34,13 @@ import numpy as np
 from scipy import ndimage
 
 from .adjoint import complete_adjoint
-from .along_front import band_widths, patch_sigmas, smooth_along_front
+from .along_front import (
+    band_widths,
+    layer_weights,
+    patch_sigmas,
+    smooth_along_front,
+    upper_band,
+)
 from .masked import solve_masked
 from .spectral import SpectralOperator
 
@@ -119,6 +128,9 @@ class Bands:
     spacing: tuple  # (hx, hy)
     #: (nx, ny) of :attr:`normal` on the outer front cells (flat order), kept when known
     outer_normal_: tuple | None = None
+    #: the reach (m) of the cells the mask may take or give in one step: ⌈a0/h⌉ h
+    #: (moves.moves), the whole layers of a0 even where the tests reach one layer further
+    step_reach: float = np.inf
 
     def outer_normal(self, normal=None) -> tuple:
         """(nx, ny) of the outward normal on the outer front cells, in flat order (packed:
@@ -166,11 +178,14 @@ def band_weights(a0: float, hx: float, hy: float) -> list:
     return [(m, 1.0)] if theta == 0.0 else [(m, 1.0 - theta), (m + 1, theta)]
 
 
-def bands(mask: np.ndarray, hx: float, hy: float, a0: float) -> Bands:
-    """Bands of ⌈a0/h⌉ whole layers (cell centres within that many h of the front): the
-    widest band :func:`band_weights` tests; narrower ones are selected by distance."""
+def bands(mask: np.ndarray, hx: float, hy: float, a0: float, reach: float | None = None
+          ) -> Bands:
+    """Bands of the cells whose centre lies within ``reach`` (m) of the other side's centres
+    (default ⌈a0/h⌉ h, the widest band :func:`band_weights` tests); narrower ones are
+    selected by distance."""
     outer_front, inner_front = front_cells(mask)
-    a0 = band_weights(a0, hx, hy)[-1][0] * min(hx, hy)
+    a0_asked = a0
+    a0 = reach or band_weights(a0, hx, hy)[-1][0] * min(hx, hy)
     pad = int(np.ceil(a0 / min(hx, hy))) + 2
     tol = 1e-9 * min(hx, hy)
     # outside: distance from each outside cell to the nearest cell of A
@@ -185,8 +200,9 @@ def bands(mask: np.ndarray, hx: float, hy: float, a0: float) -> Bands:
     _, ix, iy = _wrap_edt(~inner_front, (hx, hy), pad)
     inner_owner = np.where(inner_band, np.ravel_multi_index((ix, iy), mask.shape), -1
                            ).astype(itype)
+    step = band_weights(a0_asked, hx, hy)[-1][0] * min(hx, hy)
     return Bands(outer_band, outer_owner, inner_band, inner_owner, outer_front, inner_front,
-                 d_out, d_in, mask.copy(), (hx, hy))
+                 d_out, d_in, mask.copy(), (hx, hy), step_reach=step)
 
 
 def colours(b: Bands, vhat, viscoelastic: bool, normal=None):
@@ -326,19 +342,52 @@ def _front_average(b: Bands, F_close, W_close, F_open, W_open, sigma: float,
             smooth_along_front(F_open, b.inner_front, sig_in, W_open, normal))
 
 
-def _owner_sums(values: dict, owner: np.ndarray, owners: np.ndarray, weight: float,
-                acc: dict) -> None:
-    """acc[k][slot] += weight · Σ values[k] over the band cells of each owner (``owners``:
-    the sorted front cells of the widest band, ``owner``: the owner of each cell)."""
+def _owner_sums(values: dict, owner: np.ndarray, owners: np.ndarray, weight, acc: dict
+                ) -> None:
+    """acc[k][slot] += Σ weight · values[k] over the band cells of each owner (``owners``:
+    the sorted front cells of the widest band, ``owner``: the owner of each cell;
+    ``weight``: per cell, or one number)."""
     slot = np.searchsorted(owners, owner)
     for k, v in values.items():
-        acc[k] += weight * np.bincount(slot, weights=v, minlength=owners.size)
+        acc[k] += np.bincount(slot, weights=weight * v, minlength=owners.size)
 
 
-def _weighted(parts: list) -> LayerWork:
-    """Σ w · LayerWork of the whole-layer bands of one test (``parts``: (w, LayerWork))."""
-    obs = {k: sum(w * t.observables[k] for w, t in parts) for k in parts[0][1].observables}
-    return LayerWork(*(float(sum(w * t[i] for w, t in parts)) for i in range(4)), obs)
+def _weighted(parts: list, area: float) -> LayerWork:
+    """The LayerWork of one test from those of its whole-layer bands (``parts``: LayerWork
+    of the narrower band first), interpolated so that the band's area is ``area`` (the sum
+    of the per-owner weighted areas: one weight for the whole test)."""
+    if len(parts) == 1:
+        wts = [1.0]
+    else:
+        lo, hi = parts[0].area, parts[-1].area
+        th = (area - lo) / (hi - lo) if hi > lo else 0.0
+        wts = [1.0 - th, th]
+    obs = {k: sum(w * t.observables[k] for w, t in zip(wts, parts, strict=True))
+           for k in parts[0].observables}
+    return LayerWork(*(float(sum(w * t[i] for w, t in zip(wts, parts, strict=True)))
+                       for i in range(4)), obs)
+
+
+def _band_plan(op, b: Bands, a0: float, normal, sigma: float):
+    """The bands each test interpolates: [(reach, outer weights, inner weights), ...] with
+    the reach (m) of a band (the cells whose centre lies within it of the other side's
+    centres; None: along_front.upper_band, returned too) and the weights packed over the
+    outer and inner front cells.
+
+    Viscoelastic scenes, where a0 is physical: the band within a0 and the band one digital
+    layer wider, with a weight per front cell from their actual widths, so that the band
+    is exactly a0 wide along the normal at every orientation of the front
+    (along_front.layer_weights).  Elastic scenes, where a0 is numerical and the edge is
+    the sharp-crack edge fitted over the bands' actual widths: the whole layers of
+    :func:`band_weights`, one weight each (measured: docs/theory.md)."""
+    n_out, n_in = int(np.count_nonzero(b.outer_front)), int(np.count_nonzero(b.inner_front))
+    if not op.viscoelastic:
+        h = min(b.spacing)
+        return [(m * h, np.full(n_out, wt), np.full(n_in, wt))
+                for m, wt in band_weights(a0, *b.spacing)], None
+    upper = upper_band(b, a0)  # bool: an eighth of an N² array
+    th_out, th_in = layer_weights(b, a0, upper, normal, sigma)
+    return [(a0, 1.0 - th_out, 1.0 - th_in), (None, th_out, th_in)], upper
 
 
 class _Tester:
@@ -411,12 +460,15 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     """Closing and opening tests of every front cell at fixed Δ (Eqs. 3, 8-10 on bands).
 
     The band is exactly ``a0`` wide for any a0/h ≥ 1: the works (and every integrated
-    quantity) of the whole-layer bands of :func:`band_weights` are interpolated linearly in
-    the width.  ``w`` is the displacement prescribed in contact, ``p`` the solution on
-    ``mask``, ``u`` its displacement C p if the caller has it.  ``observables``: name ->
-    field f; the sums Σ p f of each test state are recorded (in ``closing``/``opening``
-    entries' fifth item) so that integrated quantities can be interpolated to the sub-cell
-    front.  ``front_smoothing``: σ of the average along the front in units of a0 (None: the
+    quantity) of two bands are interpolated linearly in the width (:func:`_band_plan`):
+    the whole layers of :func:`band_weights` in an elastic scene, and in a viscoelastic one
+    the band within a0 and the band one digital layer wider, with a weight per front cell,
+    so that the band is a0 wide along the normal at every orientation.  ``w`` is the
+    displacement prescribed in contact, ``p`` the solution on ``mask``, ``u`` its
+    displacement C p if the caller has it.  ``observables``: name -> field f; the sums
+    Σ p f of each test state are recorded (in ``closing``/``opening`` entries' fifth item)
+    so that integrated quantities can be interpolated to the sub-cell front.
+    ``front_smoothing``: σ of the average along the front in units of a0 (None: the
     default of the scene's kind, :func:`default_smoothing`), raised to
     ``smoothing_per_radius`` times the front radius of large patches (:func:`patch_sigmas`).
     ``adjoint``: split δL_P over the closing bands' cells now (G_close, dLP_rate, dLP_cells;
@@ -429,8 +481,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     area = cell.cell_area
     dg = np.asarray(dgamma, dtype=float)
     hmin = min(cell.hx, cell.hy)
-    widths = band_weights(a0, cell.hx, cell.hy)
-    b = bands(mask, cell.hx, cell.hy, a0)
+    b = bands(mask, cell.hx, cell.hy, a0, reach=a0 + hmin if op.viscoelastic else None)
     if u is None:
         u = op.apply(p)
     tester = _Tester(op, w, mask, p, u, dg, rtol if band_rtol is None else band_rtol,
@@ -446,14 +497,19 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     normal = b.normal  # two N² arrays, computed once for the colours, averages and widths
     b.outer_normal(normal)  # kept packed for the interpolations to the sub-cell front
     cols = colours(b, vhat, op.viscoelastic, normal)
+    sigma = _sigma_cells(default_smoothing(front_smoothing, op.viscoelastic), a0, hmin,
+                         mask.shape)
+    plan, upper = _band_plan(op, b, a0, normal, sigma)
+    io_out, io_in = np.flatnonzero(b.outer_front), np.flatnonzero(b.inner_front)
     band_area = np.zeros(mask.shape)  # each front cell's band area (widths interpolated)
     own, own_i = b.outer_owner.ravel(), b.inner_owner.ravel()
     d_out, d_in = b.outer_dist.ravel(), b.inner_dist.ravel()
     tol = 1e-9 * hmin
+    widest = band_weights(a0, cell.hx, cell.hy)[-1][0] * hmin  # the nominal band's layers
     for ci, col in enumerate(cols):
         col_flat = col.ravel()
         band = (own >= 0) & col_flat[np.maximum(own, 0)]
-        if band.any() and (mask.ravel() | band).all():
+        if band.any() and (mask.ravel() | (band & (d_out <= widest + tol))).all():
             # the band is the whole remaining gap: closing it is full contact, where the
             # half-space gauge leaves no solution at an arbitrary Δ; a gap narrower than the
             # band closes (the outer loop then reports full_contact)
@@ -462,14 +518,19 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             owners = np.unique(own[band])
             acc = {k: np.zeros(owners.size) for k in ("dL", "dg", "area")}
             parts, bands_ = [], []
-            for m, wt in widths:
-                D = (band & (d_out <= m * hmin + tol)).reshape(mask.shape)
+            for reach, wo, _ in plan:
+                wo = wo[np.searchsorted(io_out, owners)]
+                if not wo.any():  # no front cell needs this band (axis-aligned, a0/h whole)
+                    continue
+                D = (band & (upper.ravel() if reach is None else d_out <= reach + tol)
+                     ).reshape(mask.shape)
                 cells, dL, apD, layer = tester.close(D)
-                parts.append((wt, layer))
+                wt = wo[np.searchsorted(owners, own[cells])]
+                parts.append(layer)
                 bands_.append((cells, wt, apD))
                 _owner_sums({"dL": dL, "dg": _dg_area(dg, area, cells),
                              "area": np.full(cells.size, area)}, own[cells], owners, wt, acc)
-            closing[ci] = _weighted(parts)
+            closing[ci] = _weighted(parts, float(acc["area"].sum()))
             has = acc["dg"] > 0
             F.ravel()[owners[has]] = acc["dL"][has] / acc["dg"][has] - 1.0
             W.ravel()[owners[has]] = acc["dg"][has]
@@ -480,23 +541,31 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             owners = np.unique(own_i[band])
             acc = {k: np.zeros(owners.size) for k in ("dL", "dg", "area")}
             parts, bands_ = [], []
-            for m, wt in widths:
-                R = (band & (d_in <= m * hmin + tol)).reshape(mask.shape)
+            for reach, _, wo in plan:
+                wo = wo[np.searchsorted(io_in, owners)]
+                if not wo.any():
+                    continue
+                R = (band & (upper.ravel() if reach is None else d_in <= reach + tol)
+                     ).reshape(mask.shape)
                 cells, dL, gr, layer = tester.open(R)
-                parts.append((wt, layer))
+                wt = wo[np.searchsorted(owners, own_i[cells])]
+                parts.append(layer)
                 bands_.append((cells, wt))
-                g_band[np.searchsorted(ib, cells)] = gr  # the widest band's gaps last
+                slot = np.searchsorted(ib, cells)
+                # the band within a0 keeps its gaps where the wider one is upper_band's;
+                # whole layers: the widest band's gaps last
+                fresh = np.isnan(g_band[slot]) | (reach is not None)
+                g_band[slot[fresh]] = gr[fresh]
                 _owner_sums({"dL": dL, "dg": _dg_area(dg, area, cells),
                              "area": np.full(cells.size, area)}, own_i[cells], owners, wt,
                             acc)
-            opening[ci] = _weighted(parts)
+            opening[ci] = _weighted(parts, float(acc["area"].sum()))
             has = acc["dg"] > 0
             F.ravel()[owners[has]] = acc["dL"][has] / acc["dg"][has] - 1.0
             W.ravel()[owners[has]] = acc["dg"][has]
             band_area.ravel()[owners] = acc["area"]
             pending["open"].append((owners[has], bands_, acc["area"][has]))
-    sigma = _sigma_cells(default_smoothing(front_smoothing, op.viscoelastic), a0, hmin,
-                         mask.shape)
+    del plan, upper
     width = _joined(b, *band_widths(b, band_area, band_area, normal, sigma, a0))
     del band_area
     # ratio of sums along the front: each front cell weighs by its band's Δγ·area, so that

@@ -65,8 +65,11 @@ def moves(tests, mask, s_out, s_in, w, pinned, hmin, wide=None, tol=0.0):
     b = tests.bands
     half = 0.5 * hmin
     extra = None if wide is None else np.where(wide.ravel(), tol * hmin, 0.0)
-    ob = np.flatnonzero(b.outer_band)  # band cells, each with its owning front cell
-    ib = np.flatnonzero(b.inner_band & ~pinned & ~blocked(tests, w))
+    tol = 1e-9 * hmin
+    # band cells within a step of the front, each with its owning front cell
+    ob = np.flatnonzero(b.outer_band & (b.outer_dist <= b.step_reach + tol))
+    ib = np.flatnonzero(b.inner_band & (b.inner_dist <= b.step_reach + tol) & ~pinned
+                        & ~blocked(tests, w))
     reach_out = b.outer_dist.ravel()[ob] - half  # the nearest-centre rule
     reach_in = b.inner_dist.ravel()[ib] - half
     if extra is not None:

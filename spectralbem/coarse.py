@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .criterion import _wrap_edt
+from .bands import _wrap_edt
 from .spectral import Cell, SpectralOperator
 
 __all__ = ["COARSE_MIN", "eligible", "restrict", "prolong", "coarse_operator"]

@@ -278,7 +278,7 @@ def patch_labels(mask: np.ndarray, a0: float, spacing, d_in: np.ndarray | None =
     (criterion.Bands.inner_dist, exact up to the widest band and beyond a0)."""
     from scipy import ndimage
 
-    from .criterion import _wrap_edt
+    from .bands import _wrap_edt
 
     lab, n = ndimage.label(mask)
     if n == 0:

@@ -41,6 +41,7 @@ bench: $(STAMP)
 	$(BIN)/python bench/scaling.py
 	$(BIN)/python bench/sphere.py 512 default 6
 	$(BIN)/python bench/sphere_release_rates.py --delayed-kernel cell sampled
+	$(BIN)/python bench/oblique_front.py
 	$(BIN)/python bench/accuracy.py
 	$(BIN)/python bench/relaxation_length.py
 	$(BIN)/python bench/sweep2d.py

@@ -61,12 +61,10 @@ def upper_band(b, a0: float) -> np.ndarray:
     reach = np.full(b.mask.size, np.inf)
     out = np.zeros(b.mask.shape, bool)
     for owner, dist in ((b.outer_owner, b.outer_dist), (b.inner_owner, b.inner_dist)):
-        own, d = owner.ravel(), dist.ravel()
-        sel = np.flatnonzero((own >= 0) & (d > a0 + tol))
-        np.minimum.at(reach, own[sel], d[sel])
-    for owner, dist in ((b.outer_owner, b.outer_dist), (b.inner_owner, b.inner_dist)):
-        own, d = owner.ravel(), dist.ravel()
+        own, d = owner.ravel(), dist.ravel()  # the two sides' owners are disjoint cells
         sel = np.flatnonzero(own >= 0)
+        beyond = sel[d[sel] > a0 + tol]
+        np.minimum.at(reach, own[beyond], d[beyond])
         out.ravel()[sel] = d[sel] <= reach[own[sel]] + tol
     return out
 

@@ -114,23 +114,22 @@ def bands(mask: np.ndarray, hx: float, hy: float, a0: float, reach: float | None
     (default ⌈a0/h⌉ h, the widest band :func:`band_weights` tests); narrower ones are
     selected by distance."""
     outer_front, inner_front = front_cells(mask)
-    a0_asked = a0
-    a0 = reach or band_weights(a0, hx, hy)[-1][0] * min(hx, hy)
-    pad = int(np.ceil(a0 / min(hx, hy))) + 2
+    step = band_weights(a0, hx, hy)[-1][0] * min(hx, hy)
+    reach = reach or step
+    pad = int(np.ceil(reach / min(hx, hy))) + 2
     tol = 1e-9 * min(hx, hy)
     # outside: distance from each outside cell to the nearest cell of A
     d_out, _, _ = _wrap_edt(~mask, (hx, hy), pad, indices=False)
-    outer_band = ~mask & (d_out <= a0 + tol)
+    outer_band = ~mask & (d_out <= reach + tol)
     _, ox, oy = _wrap_edt(~outer_front, (hx, hy), pad)
     itype = np.int32 if mask.size < 2**31 else np.int64  # owner indices: half the memory
     outer_owner = np.where(outer_band, np.ravel_multi_index((ox, oy), mask.shape), -1
                            ).astype(itype)
     d_in, _, _ = _wrap_edt(mask, (hx, hy), pad, indices=False)
-    inner_band = mask & (d_in <= a0 + tol)
+    inner_band = mask & (d_in <= reach + tol)
     _, ix, iy = _wrap_edt(~inner_front, (hx, hy), pad)
     inner_owner = np.where(inner_band, np.ravel_multi_index((ix, iy), mask.shape), -1
                            ).astype(itype)
-    step = band_weights(a0_asked, hx, hy)[-1][0] * min(hx, hy)
     return Bands(outer_band, outer_owner, inner_band, inner_owner, outer_front, inner_front,
                  d_out, d_in, mask.copy(), (hx, hy), step_reach=step)
 

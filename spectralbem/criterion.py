@@ -379,11 +379,10 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     own, own_i = b.outer_owner.ravel(), b.inner_owner.ravel()
     d_out, d_in = b.outer_dist.ravel(), b.inner_dist.ravel()
     tol = 1e-9 * hmin
-    widest = band_weights(a0, cell.hx, cell.hy)[-1][0] * hmin  # the nominal band's layers
     for ci, col in enumerate(cols):
         col_flat = col.ravel()
         band = (own >= 0) & col_flat[np.maximum(own, 0)]
-        if band.any() and (mask.ravel() | (band & (d_out <= widest + tol))).all():
+        if band.any() and (mask.ravel() | (band & (d_out <= b.step_reach + tol))).all():
             # the band is the whole remaining gap: closing it is full contact, where the
             # half-space gauge leaves no solution at an arbitrary Δ; a gap narrower than the
             # band closes (the outer loop then reports full_contact)

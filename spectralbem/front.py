@@ -237,7 +237,8 @@ def _linear_k(Fc, Fo):
     field fits (band means non-negative and increasing outward)."""
     gc, go = 1.0 + Fc, 1.0 + Fo
     m, d = 0.5 * (gc + go), 0.5 * (gc - go)
-    u = np.sqrt(0.5 * (m + np.sqrt(np.maximum(m * m - 4.0 * d * d / 3.0, 0.0))))
+    with np.errstate(invalid="ignore"):  # m < 0 only where no field fits (fit False)
+        u = np.sqrt(0.5 * (m + np.sqrt(np.maximum(m * m - 4.0 * d * d / 3.0, 0.0))))
     return u, d, (gc > go) & (go >= 0.0)
 
 

@@ -76,6 +76,23 @@ def test_band_crack_offset_agrees_with_the_linear_fit_at_the_balance():
         assert band_crack_offset(Fc, Fo, A0) == sub_cell_offset(Fc, Fo, A0)
 
 
+def test_crack_offsets_fall_back_silently_where_no_field_fits():
+    """Band means of G below −Δγ on both sides, increasing outward (m < 0: no
+    stress-intensity field fits; the rough unloading states at 512² have such cells): the
+    linear fit, and no floating-point warning from the field that was not taken."""
+    import warnings
+
+    Fc, Fo = np.array([-2.5, -1.5]), np.array([-4.0, -3.0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for offset in (sharp_crack_offset, band_crack_offset):
+            s = offset(Fc, Fo, A0)
+            assert np.all(np.isfinite(s))
+    assert np.array_equal(band_crack_offset(Fc, Fo, A0), sub_cell_offset(Fc, Fo, A0))
+    assert np.array_equal(sharp_crack_offset(Fc, Fo, A0),
+                          sub_cell_offset(Fc, Fo, A0) + 0.5 * A0)
+
+
 def _jkr_edge(a0, P, offset):
     """Radius of the balanced edge of the axisymmetric JKR contact (R = E* = 1, zero-load
     JKR radius 1) at load P when each band's work is the exact integral of G over its

@@ -78,7 +78,7 @@ def test_band_crack_offset_agrees_with_the_linear_fit_at_the_balance():
 
 def test_crack_offsets_fall_back_silently_where_no_field_fits():
     """Band means of G below −Δγ on both sides, increasing outward (m < 0: no
-    stress-intensity field fits; the rough unloading states at 512² have such cells): the
+    stress-intensity field fits; the rough elastic path at 512² has such cells): the
     linear fit, and no floating-point warning from the field that was not taken."""
     import warnings
 

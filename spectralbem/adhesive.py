@@ -395,7 +395,7 @@ class _FrontIteration:
             free = stale & (self.released < PIN_RELEASES)
             self.released += free
             pinned &= ~free  # these move with the balance from now on
-            stale &= ~free  # already released once: they stay, as lattice binds
+            stale &= ~free  # released PIN_RELEASES times already: lattice binds, they stay
         blk = blocked(tests, w)
         held = self.held = pinned | blk
         # under a tensile load, pinned cells that could open now and whose balance lies

@@ -84,7 +84,7 @@ def moves(tests, mask, s_out, s_in, w, pinned, hmin, wide=None, tol=0.0):
 #: times a cell's stale pin may be released (:func:`stale_pins`).  Measured on the rough SLS
 #: path of docs/rough_convergence.md at 512², its direct unloading step 3e4 → 1e4 Pa: with one
 #: release it ended held by 11 overloaded pins after 215 outer iterations and was solved
-#: again in two half steps (path 503 CPU-s); with two it converges directly in 211 (247 s)
+#: again in two half steps (path 503 CPU-s); with two it converges directly in 211 (path 241 s)
 PIN_RELEASES = 2
 
 

@@ -60,6 +60,7 @@ from .moves import (
     predictor_moves,
     release_bound,
     release_out_of_bounds,
+    release_pins,
     stale_pins,
     unverified_pins,
 )
@@ -391,11 +392,9 @@ class _FrontIteration:
         pinned = self.pinned
         stale = None
         if self.criterion != "predictor" and self.p.mean() > 0 and pinned.any():
-            stale = stale_pins(tests, mask, s_out, s_in, w, pinned, hmin)
-            free = stale & (self.released < PIN_RELEASES)
-            self.released += free
-            pinned &= ~free  # these move with the balance from now on
-            stale &= ~free  # released PIN_RELEASES times already: lattice binds, they stay
+            # released pins move with the balance from now on; the rest are lattice binds
+            stale = release_pins(stale_pins(tests, mask, s_out, s_in, w, pinned, hmin),
+                                 pinned, self.released)
         blk = blocked(tests, w)
         held = self.held = pinned | blk
         # under a tensile load, pinned cells that could open now and whose balance lies

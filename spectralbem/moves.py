@@ -20,7 +20,7 @@ from .front import (
 __all__ = ["offsets", "moves", "stale_pins", "overloaded_pins", "held_offsets", "crack_tips",
            "release_out_of_bounds", "release_bound", "unverified_pins", "blocked",
            "predictor_moves", "next_correction", "Oscillation", "PIN_RELEASES", "RELEASE_SLACK",
-           "OSCILLATION_FLIPS", "OSCILLATION_RUN"]
+           "release_pins", "OSCILLATION_FLIPS", "OSCILLATION_RUN"]
 
 #: a cell that has changed state this many times in one solve counts as oscillating
 OSCILLATION_FLIPS = 3
@@ -103,6 +103,16 @@ def stale_pins(tests, mask, s_out, s_in, w, pinned, hmin):
         return pinned
     _, remove = moves(tests, mask, s_out, s_in, w, np.zeros_like(pinned), hmin)
     return remove & pinned
+
+
+def release_pins(stale, pinned, released, limit: int = PIN_RELEASES):
+    """Release the ``stale`` pins of cells released fewer than ``limit`` times, in place:
+    they leave ``pinned`` and their count in ``released`` grows by one.  Returns the stale
+    pins that stay (released ``limit`` times already: lattice binds)."""
+    free = stale & (released < limit)
+    released += free
+    pinned &= ~free
+    return stale & ~free
 
 
 def overloaded_pins(stale, p, free_edge, factor: float = 1.0) -> int:

@@ -441,6 +441,27 @@ def test_stale_pins(delta, sliver_stale):
         assert blocked(ft, w)[pinned & strip].all() and np.all(s_in[pinned & strip] < 0)
 
 
+def test_a_stale_pin_is_released_at_most_pin_releases_times():
+    """release_pins: a stale pin leaves the pins and counts one release while the cell has
+    had fewer than PIN_RELEASES; after that it stays, a lattice bind (returned as still
+    stale).  Three rounds of the same stale cell: released, released, kept (limit 2)."""
+    from spectralbem.moves import PIN_RELEASES, release_pins
+
+    assert PIN_RELEASES == 2
+    released = np.zeros((4, 4), np.int8)
+    kept = []
+    for _ in range(3):
+        pinned = np.zeros((4, 4), bool)
+        pinned[1, 1] = pinned[2, 2] = True
+        stale = np.zeros((4, 4), bool)
+        stale[1, 1] = True
+        left = release_pins(stale, pinned, released)
+        kept.append((bool(pinned[1, 1]), bool(left[1, 1])))
+        assert pinned[2, 2] and not left[2, 2]  # a pin that is not stale is untouched
+    assert kept == [(False, False), (False, False), (True, True)]
+    assert released[1, 1] == 2 and released.sum() == 2
+
+
 def test_a_stale_pin_beyond_every_free_edge_leaves_the_state_unverified():
     """overloaded_pins: the sliver of test_stale_pins at Δ = 0.3 (stale pins at p ≈ −6 to
     −12) against the strip's free edges (p ≥ −0.9): every stale pin carries more than the

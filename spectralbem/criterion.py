@@ -264,6 +264,41 @@ def _band_plan(op, b: Bands, a0: float, normal, sigma: float):
     return [(a0, 1.0 - th_out, 1.0 - th_in), (None, th_out, th_in)], upper
 
 
+def _side_tests(test, plan, band, own, dist, io, upper, tol, dg, area, shape):
+    """The closing (``test`` = _Tester.close) or opening tests of one colour's band cells
+    ``band`` (flat bool) on one side of the front: each band of ``plan`` ([(reach, weights
+    packed over the side's front cells ``io``)], :func:`_band_plan`) that some front cell
+    needs is tested, and its per-cell works summed per owner with the cells' weights.
+    ``shape``: the grid's.  Returns (owners, the sums dL, dg, area per owner, the
+    interpolated LayerWork, runs [(reach, cells, weights, the test's third output: a·p on
+    the closed band, the opened band's gaps)])."""
+    owners = np.unique(own[band])
+    acc = {k: np.zeros(owners.size) for k in ("dL", "dg", "area")}
+    parts, runs = [], []
+    for reach, wo in plan:
+        wo = wo[np.searchsorted(io, owners)]
+        if not wo.any():  # no front cell needs this band (axis-aligned, a0/h whole)
+            continue
+        sel = band & (upper.ravel() if reach is None else dist <= reach + tol)
+        cells, dL, extra, layer = test(sel.reshape(shape))
+        wt = wo[np.searchsorted(owners, own[cells])]
+        parts.append(layer)
+        runs.append((reach, cells, wt, extra))
+        _owner_sums({"dL": dL, "dg": _dg_area(dg, area, cells),
+                     "area": np.full(cells.size, area)}, own[cells], owners, wt, acc)
+    return owners, acc, _weighted(parts, float(acc["area"].sum())), runs
+
+
+def _store_balance(F, W, band_area, owners, acc) -> np.ndarray:
+    """F = δL/(Δγ a) − 1, W = Δγ a and the band area on the owners of one test; returns
+    the owners whose band has a Δγ·area (those F is defined on)."""
+    has = acc["dg"] > 0
+    F.ravel()[owners[has]] = acc["dL"][has] / acc["dg"][has] - 1.0
+    W.ravel()[owners[has]] = acc["dg"][has]
+    band_area.ravel()[owners] = acc["area"]
+    return has
+
+
 class _Tester:
     """The closing and opening tests of one state: the solves and per-cell works of
     :func:`front_tests` (one instance per call)."""
@@ -388,56 +423,26 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             # band closes (the outer loop then reports full_contact)
             force_close.ravel()[np.unique(own[band])] = True
         elif band.any():
-            owners = np.unique(own[band])
-            acc = {k: np.zeros(owners.size) for k in ("dL", "dg", "area")}
-            parts, bands_ = [], []
-            for reach, wo, _ in plan:
-                wo = wo[np.searchsorted(io_out, owners)]
-                if not wo.any():  # no front cell needs this band (axis-aligned, a0/h whole)
-                    continue
-                D = (band & (upper.ravel() if reach is None else d_out <= reach + tol)
-                     ).reshape(mask.shape)
-                cells, dL, apD, layer = tester.close(D)
-                wt = wo[np.searchsorted(owners, own[cells])]
-                parts.append(layer)
-                bands_.append((cells, wt, apD))
-                _owner_sums({"dL": dL, "dg": _dg_area(dg, area, cells),
-                             "area": np.full(cells.size, area)}, own[cells], owners, wt, acc)
-            closing[ci] = _weighted(parts, float(acc["area"].sum()))
-            has = acc["dg"] > 0
-            F.ravel()[owners[has]] = acc["dL"][has] / acc["dg"][has] - 1.0
-            W.ravel()[owners[has]] = acc["dg"][has]
-            band_area.ravel()[owners] = acc["area"]
-            pending["close"].append((owners[has], bands_, acc["dL"][has], acc["area"][has]))
+            owners, acc, closing[ci], runs = _side_tests(
+                tester.close, [(r, wo) for r, wo, _ in plan], band, own, d_out, io_out,
+                upper, tol, dg, area, mask.shape)
+            has = _store_balance(F, W, band_area, owners, acc)
+            pending["close"].append((owners[has], [(c, wt, apD) for _, c, wt, apD in runs],
+                                     acc["dL"][has], acc["area"][has]))
         band = (own_i >= 0) & col_flat[np.maximum(own_i, 0)]
         if band.any():
-            owners = np.unique(own_i[band])
-            acc = {k: np.zeros(owners.size) for k in ("dL", "dg", "area")}
-            parts, bands_ = [], []
-            for reach, _, wo in plan:
-                wo = wo[np.searchsorted(io_in, owners)]
-                if not wo.any():
-                    continue
-                R = (band & (upper.ravel() if reach is None else d_in <= reach + tol)
-                     ).reshape(mask.shape)
-                cells, dL, gr, layer = tester.open(R)
-                wt = wo[np.searchsorted(owners, own_i[cells])]
-                parts.append(layer)
-                bands_.append((cells, wt))
+            owners, acc, opening[ci], runs = _side_tests(
+                tester.open, [(r, wi) for r, _, wi in plan], band, own_i, d_in, io_in,
+                upper, tol, dg, area, mask.shape)
+            for reach, cells, _, gr in runs:
                 slot = np.searchsorted(ib, cells)
                 # the band within a0 keeps its gaps where the wider one is upper_band's;
                 # whole layers: the widest band's gaps last
                 fresh = np.isnan(g_band[slot]) | (reach is not None)
                 g_band[slot[fresh]] = gr[fresh]
-                _owner_sums({"dL": dL, "dg": _dg_area(dg, area, cells),
-                             "area": np.full(cells.size, area)}, own_i[cells], owners, wt,
-                            acc)
-            opening[ci] = _weighted(parts, float(acc["area"].sum()))
-            has = acc["dg"] > 0
-            F.ravel()[owners[has]] = acc["dL"][has] / acc["dg"][has] - 1.0
-            W.ravel()[owners[has]] = acc["dg"][has]
-            band_area.ravel()[owners] = acc["area"]
-            pending["open"].append((owners[has], bands_, acc["area"][has]))
+            has = _store_balance(F, W, band_area, owners, acc)
+            pending["open"].append((owners[has], [(c, wt) for _, c, wt, _ in runs],
+                                    acc["area"][has]))
     del plan, upper
     width = _joined(b, *band_widths(b, band_area, band_area, normal, sigma, a0))
     del band_area

@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage
 
+from . import kernels
 from .front import front_length_weights
 
 __all__ = ["band_widths", "layer_weights", "upper_band", "patch_sigmas",
@@ -161,6 +162,12 @@ def smooth_along_front(F: np.ndarray, front: np.ndarray, sigma,
     patch); without it, a Gaussian over the grid restricted to front cells.
     """
     if isinstance(sigma, dict):
+        if normal is not None:  # every group in one walk: its cells join their group only
+            per_cell = np.full(F.size, np.nan)
+            per_cell[sigma["cells"]] = sigma["sigma"]
+            per_cell = per_cell.reshape(F.shape)
+            return _smooth_on_front_graph(F, front & np.isfinite(F) & ~np.isnan(per_cell),
+                                          per_cell, weights, normal)
         out = np.full(F.shape, np.nan)
         for s_ in np.unique(sigma["sigma"]):
             sel = np.zeros(F.shape, bool)
@@ -184,12 +191,14 @@ def smooth_along_front(F: np.ndarray, front: np.ndarray, sigma,
     return num
 
 
-def _smooth_on_front_graph(F, ok, sigma: float, weights, normal) -> np.ndarray:
+def _smooth_on_front_graph(F, ok, sigma, weights, normal) -> np.ndarray:
     """Weighted average of F along the front graph: the front cells ``ok`` joined to their
     8-neighbours on the front whose normals agree (n_i·n_j > 0, so the two sides of a neck or
-    of a narrow gap stay apart); the kernel is the lazy walk ½(I + D⁻¹ Adj) applied 2σ²
-    times, a Gaussian of σ cells along a straight front (variance ½ cell² a step).  A ratio
-    of sums: Σ K w F / Σ K w."""
+    of a narrow gap stay apart) and whose σ is the same; the kernel is the lazy walk
+    ½(I + D⁻¹ Adj) applied 2σ² times, a Gaussian of σ cells along a straight front (variance
+    ½ cell² a step).  A ratio of sums: Σ K w F / Σ K w.  ``sigma``: a number, or an N²
+    array of per-cell σ (nan off ``ok``), each group of one σ walking on its own; cells of
+    σ ≤ 0 keep F.  The walk is compiled (:func:`spectralbem.kernels.front_walk`)."""
     from scipy import sparse
 
     shape = F.shape
@@ -199,11 +208,14 @@ def _smooth_on_front_graph(F, ok, sigma: float, weights, normal) -> np.ndarray:
     pos[idx] = np.arange(n)
     i, j = np.divmod(idx, shape[1])
     nx_, ny_ = normal[0].ravel()[idx], normal[1].ravel()[idx]
+    sig = (np.full(n, float(sigma)) if np.isscalar(sigma)
+           else np.asarray(sigma, dtype=float).ravel()[idx])
     rows, cols = [], []
     for di, dj in ((1, 0), (0, 1), (1, 1), (1, -1)):  # each undirected pair once
         k = pos[((i + di) % shape[0]) * shape[1] + (j + dj) % shape[1]]
         sel = k >= 0
-        sel[sel] = nx_[sel] * nx_[k[sel]] + ny_[sel] * ny_[k[sel]] > 0
+        ks = k[sel]
+        sel[sel] = (nx_[sel] * nx_[ks] + ny_[sel] * ny_[ks] > 0) & (sig[sel] == sig[ks])
         rows.append(np.flatnonzero(sel))
         cols.append(k[sel])
     r_, c_ = np.concatenate(rows), np.concatenate(cols)
@@ -214,11 +226,14 @@ def _smooth_on_front_graph(F, ok, sigma: float, weights, normal) -> np.ndarray:
     # weight (an unnormalised walk biased a JKR disc's balance by 5 % near pull-off)
     step = (sparse.diags(0.5 / np.maximum(deg, 1.0)) @ adj
             + sparse.diags(np.where(deg > 0, 0.5, 1.0))).tocsr()
+    step.sort_indices()
     w = np.ones(n) if weights is None else weights.ravel()[idx].astype(float)
     num, den = w * F.ravel()[idx], w.copy()
-    for _ in range(int(round(2 * sigma**2))):
-        num, den = step @ num, step @ den
+    steps = np.rint(2 * np.maximum(sig, 0.0) ** 2).astype(np.int64)
+    kernels.front_walk(step.indptr, step.indices, step.data, steps, num, den)
     out = np.full(shape, np.nan)
     good = den > 0
     out.ravel()[idx[good]] = num[good] / den[good]
+    keep = sig <= 0
+    out.ravel()[idx[keep]] = F.ravel()[idx[keep]]
     return out

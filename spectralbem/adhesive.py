@@ -27,6 +27,7 @@ import numpy as np
 
 from . import coarse
 from .adjoint import complete_adjoint
+from .band_starts import BandStarts
 from .contact import friction, full_contact, sliding_direction
 from .conventions import control
 from .criterion import (
@@ -237,6 +238,7 @@ class _FrontIteration:
         self.history = []
         self.status, self.message, self.converged = "not_converged", "", False
         self.tests = None
+        self.band_starts = BandStarts()  # warm starts of the band solves, test to test
         # the band tests run at a loose tolerance until a state balances, which is then
         # tested again at the state's tolerance before it is accepted (_exact_step)
         self.loose = loose_band_rtol(test_kw["rtol"]) > test_kw["rtol"]
@@ -379,7 +381,7 @@ class _FrontIteration:
         # the adjoint split of δL_P serves only the outputs: the final state's (_result)
         band_rtol = loose_band_rtol(self.test_kw["rtol"]) if self.loose else None
         tests = front_tests(op, w, mask, self.p, self.dgamma, a0, u=self.u, adjoint=False,
-                            band_rtol=band_rtol, **self.test_kw)
+                            band_rtol=band_rtol, starts=self.band_starts, **self.test_kw)
         self.tests = tests
         self.solves += tests.solves
         if not tests.converged:
@@ -544,7 +546,7 @@ class _FrontIteration:
     def _result(self, progress) -> AdhesiveState:
         op, cell, mask, p = self.op, self.op.cell, self.mask, self.p
         status, message, converged = self.status, self.message, self.converged
-        self.moves_to = None  # freed before the final state's adjoint solves
+        self.moves_to = self.band_starts = None  # freed before the final adjoint solves
         if self.s_out is None:  # the last tests failed: no balanced edge
             self.s_out = self.s_in = np.full(cell.shape, np.nan)
         pm = float(p.mean())

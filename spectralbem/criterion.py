@@ -41,6 +41,7 @@ from .along_front import (
     smooth_along_front,
     upper_band,
 )
+from .band_starts import BandStarts
 from .bands import (  # noqa: F401  (front_cells, band_split: part of this module's API)
     Bands,
     band_split,
@@ -284,23 +285,23 @@ def _band_plan(op, b: Bands, a0: float, normal, sigma: float):
     return [(a0, 1.0 - th_out, 1.0 - th_in), (None, th_out, th_in)], upper
 
 
-def _side_tests(test, plan, band, own, dist, io, upper, tol, dg, area, shape):
+def _side_tests(test, plan, band, own, dist, io, upper, tol, dg, area, shape, key):
     """The closing (``test`` = _Tester.close) or opening tests of one colour's band cells
     ``band`` (flat bool) on one side of the front: each band of ``plan`` ([(reach, weights
     packed over the side's front cells ``io``)], :func:`_band_plan`) that some front cell
     needs is tested, and its per-cell works summed per owner with the cells' weights.
-    ``shape``: the grid's.  Returns (owners, the sums dL, dg, area per owner, the
-    interpolated LayerWork, runs [(reach, cells, weights, the test's third output: a·p on
-    the closed band, the opened band's gaps)])."""
+    ``shape``: the grid's; ``key``: (colour, side) of the tests' warm starts.  Returns
+    (owners, the sums dL, dg, area per owner, the interpolated LayerWork, runs [(reach,
+    cells, weights, the test's third output: a·p on the closed band, the opened band's gaps)])."""
     owners = np.unique(own[band])
     acc = {k: np.zeros(owners.size) for k in ("dL", "dg", "area")}
     parts, runs = [], []
-    for reach, wo in plan:
+    for k, (reach, wo) in enumerate(plan):
         wo = wo[np.searchsorted(io, owners)]
         if not wo.any():  # no front cell needs this band (axis-aligned, a0/h whole)
             continue
         sel = band & (upper.ravel() if reach is None else dist <= reach + tol)
-        cells, dL, extra, layer = test(sel.reshape(shape))
+        cells, dL, extra, layer = test(sel.reshape(shape), key + (k,))
         wt = wo[np.searchsorted(owners, own[cells])]
         parts.append(layer)
         runs.append((reach, cells, wt, extra))
@@ -323,9 +324,10 @@ class _Tester:
     """The closing and opening tests of one state: the solves and per-cell works of
     :func:`front_tests` (one instance per call)."""
 
-    def __init__(self, op, w, mask, p, u, dg, rtol, observables):
+    def __init__(self, op, w, mask, p, u, dg, rtol, observables, starts=None):
         self.op, self.w, self.mask, self.p, self.u = op, w, mask, p, u
         self.dg, self.rtol, self.observables = dg, rtol, observables  # rtol: the band solves'
+        self.starts = starts  # band_starts.BandStarts of the adhesive solve, or None
         self.area = op.cell.cell_area
         self.solves, self.ok, self.msg = 0, True, "converged"
 
@@ -336,21 +338,26 @@ class _Tester:
         out["mean_pressure"] = float(q.mean())
         return out
 
-    def solve(self, mask):
-        res = solve_masked(self.op, mask, self.w, x0=self.p, rtol=self.rtol)
+    def solve(self, mask, key=None):
+        st = self.starts if key is not None else None
+        x0 = self.p if st is None else st.start(key, self.p)
+        res = solve_masked(self.op, mask, self.w, x0=x0, rtol=self.rtol)
+        del x0
+        if st is not None and res.converged:
+            st.keep(key, res.field, self.p)
         self.solves += 1
         self.ok &= res.converged
         if not res.converged:
             self.msg = res.message
         return res.field
 
-    def close(self, D):
+    def close(self, D, key=None):
         """Close the band D at fixed Δ: per-cell δL_j = ½ g_j(A) t_j(A ∪ D) a (Eq. 8, t = −p),
         a·p_j(A ∪ D) on the band (what the adjoint split of δL_P weighs,
         ``adjoint.complete_adjoint``) and the layer's :class:`LayerWork` from Eqs. (8)-(10) with
         the actual fields."""
         a, p, u, w = self.area, self.p, self.u, self.w
-        pp = self.solve(self.mask | D)
+        pp = self.solve(self.mask | D, key)
         cells = np.flatnonzero(D)
         apD = a * pp.ravel()[cells]
         dL = -0.5 * (u.ravel()[cells] - w.ravel()[cells]) * apD
@@ -361,12 +368,12 @@ class _Tester:
                           self.observe(pp))
         return cells, dL, apD, layer
 
-    def open(self, R):
+    def open(self, R, key=None):
         """Open the band R at fixed Δ: δL_j = ½ g_j(A ∖ R) t_j(A) a, the gap of each opened
         cell and the layer's :class:`LayerWork`."""
         a, p, u, w = self.area, self.p, self.u, self.w
         if (self.mask & ~R).any():
-            pr = self.solve(self.mask & ~R)
+            pr = self.solve(self.mask & ~R, key)
             ur = self.op.apply(pr)
         else:  # the band is the whole contact: opening it detaches (no stress left)
             pr, ur = np.zeros_like(p), np.zeros_like(u)
@@ -385,7 +392,8 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
                 observables: dict | None = None, front_smoothing: float | None = None,
                 smoothing_per_radius: float = SMOOTHING_PER_RADIUS,
                 u: np.ndarray | None = None, adjoint: bool = True,
-                band_rtol: float | None = None) -> FrontTest:
+                band_rtol: float | None = None, starts: BandStarts | None = None
+                ) -> FrontTest:
     """Closing and opening tests of every front cell at fixed Δ (Eqs. 3, 8-10 on bands).
 
     The band is exactly ``a0`` wide for any a0/h ≥ 1: the works (and every integrated
@@ -406,6 +414,8 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     ``adjoint.complete_adjoint`` — the balance itself (F) never needs it, only the outputs of
     the final state do.  ``band_rtol``: the band states' solve tolerance (None: ``rtol``;
     :func:`loose_band_rtol` for an intermediate state whose tests only move the front).
+    ``starts``: the adhesive solve's :class:`~spectralbem.band_starts.BandStarts` (each band
+    solve starts from p plus that band's correction at the last test; None: from p).
     """
     cell = op.cell
     area = cell.cell_area
@@ -414,8 +424,10 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     b = bands(mask, cell.hx, cell.hy, a0, reach=a0 + hmin if exact_width(op, a0) else None)
     if u is None:
         u = op.apply(p)
+    if starts is not None:
+        starts.begin(mask | b.outer_band)
     tester = _Tester(op, w, mask, p, u, dg, rtol if band_rtol is None else band_rtol,
-                     observables or {})
+                     observables or {}, starts)
     # one array per quantity: the outer (closing) and inner (opening) front cells are disjoint
     F = np.full(mask.shape, np.nan)
     ib = np.flatnonzero(b.inner_band)
@@ -446,7 +458,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
         elif band.any():
             owners, acc, closing[ci], runs = _side_tests(
                 tester.close, [(r, wo) for r, wo, _ in plan], band, own, d_out, io_out,
-                upper, tol, dg, area, mask.shape)
+                upper, tol, dg, area, mask.shape, (ci, "close"))
             has = _store_balance(F, W, band_area, owners, acc)
             pending["close"].append((owners[has], [(c, wt, apD) for _, c, wt, apD in runs],
                                      acc["dL"][has], acc["area"][has]))
@@ -454,7 +466,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
         if band.any():
             owners, acc, opening[ci], runs = _side_tests(
                 tester.open, [(r, wi) for r, _, wi in plan], band, own_i, d_in, io_in,
-                upper, tol, dg, area, mask.shape)
+                upper, tol, dg, area, mask.shape, (ci, "open"))
             for reach, cells, _, gr in runs:
                 slot = np.searchsorted(ib, cells)
                 # the band within a0 keeps its gaps where the wider one is upper_band's;

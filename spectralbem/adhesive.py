@@ -129,7 +129,9 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     """Adhesive equilibrium under penetration or mean-pressure control.
 
     ``dgamma``: work of adhesion Δγ (J/m², scalar or per-cell map); ``a0``: advance width (m),
-    at least one cell, used exactly (criterion.band_weights).  In an elastic scene the
+    at least one cell, used exactly (criterion.band_weights; a0 wide at every orientation of
+    the front in a viscoelastic scene and from two cells on, criterion.exact_width).  In an
+    elastic scene the
     reported edge is the sharp-crack edge G = Δγ of a stress-intensity factor linear over
     the two bands (front.sharp_crack_offset); in a viscoelastic scene a0 is physical and
     the edge is the seed's l* (docs/theory.md).

@@ -12,9 +12,11 @@ products changes (measured on the rough cases of docs/rough_convergence.md: 29 %
 products on the viscoelastic loading state at 512², 16 % on the elastic one, the same states;
 docs/performance.md).
 
-The corrections are kept in float32 (a start needs no more) on the cells of the mask and its
-outer bands, where the band solves have unknowns: on a rough contact of 20-50 % of the
-cells, one to two N² float64 arrays for the eight bands of a viscoelastic test.
+The corrections are kept in float32 (a start needs no more), the latest of each band, on the
+cells of the mask and its outer bands, where the band solves have unknowns (on a rough
+contact of 20-50 % of the cells, about one N² float64 array for the eight bands of a
+viscoelastic test), and added to the start packed (masked.solve_masked's ``x0_add``): no
+full-grid copy of a start is made.
 """
 
 from __future__ import annotations
@@ -25,32 +27,37 @@ __all__ = ["BandStarts"]
 
 
 class BandStarts:
-    """The corrections of the last front test's band solves, by key (colour, side, band), and
-    those of the test under way (:meth:`begin` makes the latter the former)."""
+    """The corrections of the band solves by key (colour, side, band): the latest of each
+    key, packed on the cells of the front test that made it (one generation of cells per
+    test, kept while a key refers to it)."""
 
     def __init__(self):
-        self._last_idx, self._last = None, {}
-        self._idx, self._next = None, {}
+        self._cells = {}  # generation -> flat cells (sorted)
+        self._values = {}  # key -> (generation, float32 corrections on its cells)
+        self._gen = -1
 
     def begin(self, cells: np.ndarray) -> None:
-        """A new front test whose band solves have unknowns on ``cells`` (bool, N²): the
-        corrections of the test before become the starts."""
-        if self._idx is not None:
-            self._last_idx, self._last = self._idx, self._next
-        self._idx, self._next = np.flatnonzero(cells), {}
+        """A new front test whose band solves have unknowns on ``cells`` (bool, N²)."""
+        self._gen += 1
+        self._cells[self._gen] = np.flatnonzero(cells)
+        self._drop()
 
-    def start(self, key, p: np.ndarray) -> np.ndarray:
-        """The start of the band solve ``key``: p plus that band's last correction (p itself
-        when there is none)."""
-        last = self._last.get(key)
-        if last is None:
-            return p
-        x0 = p.copy()
-        x0.ravel()[self._last_idx] += last
-        return x0
+    def start(self, key):
+        """(flat cells, corrections) to add to the state's pressure for the start of the band
+        solve ``key`` (masked.solve_masked's ``x0_add``), or None when there is none."""
+        last = self._values.get(key)
+        return None if last is None else (self._cells[last[0]], last[1])
 
     def keep(self, key, field: np.ndarray, p: np.ndarray) -> None:
-        """Keep the correction ``field`` − p of the band solve ``key`` for the next test."""
-        if self._idx is None:
+        """Keep the correction ``field`` − p of the band solve ``key`` (the test under way's)."""
+        if self._gen < 0:
             raise RuntimeError("BandStarts.keep before begin")
-        self._next[key] = (field.ravel()[self._idx] - p.ravel()[self._idx]).astype(np.float32)
+        cells = self._cells[self._gen]
+        self._values[key] = (self._gen,
+                             (field.ravel()[cells] - p.ravel()[cells]).astype(np.float32))
+        self._drop()
+
+    def _drop(self) -> None:
+        used = {g for g, _ in self._values.values()} | {self._gen}
+        for g in [g for g in self._cells if g not in used]:
+            del self._cells[g]

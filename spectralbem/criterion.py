@@ -340,9 +340,8 @@ class _Tester:
 
     def solve(self, mask, key=None):
         st = self.starts if key is not None else None
-        x0 = self.p if st is None else st.start(key, self.p)
-        res = solve_masked(self.op, mask, self.w, x0=x0, rtol=self.rtol)
-        del x0
+        res = solve_masked(self.op, mask, self.w, x0=self.p, rtol=self.rtol,
+                           x0_add=None if st is None else st.start(key))
         if st is not None and res.converged:
             st.keep(key, res.field, self.p)
         self.solves += 1

@@ -351,7 +351,7 @@ def _fused(op, mask, b, x, bnorm, rtol, maxiter, transpose, counter):
 
 
 def solve_masked(op: SpectralOperator, mask: np.ndarray, rhs: np.ndarray, *, x0=None,
-                 rtol: float = 1e-10, maxiter: int | None = None, method: str = "auto",
+                 x0_add=None, rtol: float = 1e-10, maxiter: int | None = None, method: str = "auto",
                  precondition: bool | None = None, transpose: bool = False,
                  restart: int | None = None) -> SolveResult:
     """Solve (C p)|_A = rhs|_A with p = 0 off A.
@@ -360,6 +360,8 @@ def solve_masked(op: SpectralOperator, mask: np.ndarray, rhs: np.ndarray, *, x0=
     ----------
     rhs : full-grid array; only its values on the mask are used.
     x0 : full-grid warm start (values on the mask are used).
+    x0_add : (flat cells, values) added to the start on the cells of the mask among them (a
+        correction kept packed: no full-grid copy of the start is made).
     rtol : relative tolerance on ‖b - A x‖/‖b‖.
     maxiter : guard on matrix-vector products (default 20·√n + 500).
     method : 'auto' (the fused GMRES of :class:`PackedSystem`, which hands what is left of
@@ -388,6 +390,11 @@ def solve_masked(op: SpectralOperator, mask: np.ndarray, rhs: np.ndarray, *, x0=
     if bnorm == 0.0:
         return SolveResult(np.zeros(shape), 0, 0.0, True, "zero right-hand side", "none")
     x = np.zeros(n) if x0 is None else np.asarray(x0, dtype=float).flat[sys_.idx].copy()
+    if x0_add is not None:
+        cells, values = x0_add
+        pos = np.minimum(np.searchsorted(sys_.idx, cells), max(n - 1, 0))
+        on = sys_.idx[pos] == cells
+        x[pos[on]] += values[on]
     if not np.all(np.isfinite(x)):
         x = np.zeros(n)
     if maxiter is None:

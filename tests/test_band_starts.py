@@ -9,22 +9,44 @@ from spectralbem import criterion
 from spectralbem.band_starts import BandStarts
 
 
-def test_start_is_p_plus_the_last_correction_on_the_kept_cells():
+def test_start_is_the_last_correction_of_each_band_on_its_cells():
+    """BandStarts keeps the latest correction of each key in float32 on the cells of the
+    test that made it, and masked.solve_masked adds it to the start on the mask's cells."""
+    from spectralbem.masked import solve_masked
+    from spectralbem.materials import Elastic
+    from spectralbem.spectral import Cell, SpectralOperator
+
     rng = np.random.default_rng(1)
-    p, field = rng.normal(size=(8, 8)), rng.normal(size=(8, 8))
-    cells = rng.random((8, 8)) < 0.5
+    p, field, field2 = (rng.normal(size=(16, 16)) for _ in range(3))
+    cells = rng.random((16, 16)) < 0.5
     st = BandStarts()
     with pytest.raises(RuntimeError):
         st.keep("k", field, p)
     st.begin(cells)
-    assert st.start("k", p) is p  # nothing kept yet: the state's pressure itself
+    assert st.start("k") is None  # nothing kept yet: the state's pressure alone
     st.keep("k", field, p)
-    st.begin(cells)  # the next test: the corrections kept become the starts
-    x0 = st.start("k", p)
-    # the correction in float32: p + (field − p) to float32's rounding of the correction
-    np.testing.assert_allclose(x0[cells], field[cells], rtol=0, atol=1e-6)
-    assert np.array_equal(x0[~cells], p[~cells])
-    assert st.start("other", p) is p
+    idx, vals = st.start("k")
+    assert np.array_equal(idx, np.flatnonzero(cells)) and vals.dtype == np.float32
+    # float32: the correction to its rounding (|field − p| < 10 here)
+    np.testing.assert_allclose(vals, (field - p)[cells], rtol=0, atol=1e-5)
+    st.begin(~cells)  # the next test: another set of cells; "k" still refers to the old one
+    assert np.array_equal(st.start("k")[0], np.flatnonzero(cells))
+    st.keep("k", field2, p)  # replaced: the old cells are dropped
+    assert np.array_equal(st.start("k")[0], np.flatnonzero(~cells))
+    assert len(st._cells) == 1
+    # the start of a masked solve is x0 plus the correction on the mask's cells: from the
+    # exact solution minus a correction, with the correction added, the start is exact
+    op = SpectralOperator(Cell(1.0, 1.0, 16, 16), Elastic(1.0, 0.0))
+    mask = rng.random((16, 16)) < 0.6
+    w = rng.normal(size=(16, 16))
+    exact = solve_masked(op, mask, w, rtol=1e-13).field
+    cidx = np.flatnonzero(~cells)
+    cval = rng.normal(size=cidx.size).astype(np.float32)
+    x0 = exact.copy()
+    x0.ravel()[cidx] -= cval
+    res = solve_masked(op, mask, w, x0=x0, rtol=1e-10, x0_add=(cidx, cval))
+    assert res.converged and res.iterations <= 2, res.iterations  # the checks of the start
+    assert solve_masked(op, mask, w, x0=x0, rtol=1e-10).iterations > 5  # without it
 
 
 @pytest.mark.parametrize("viscoelastic", [False, True])

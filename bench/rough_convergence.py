@@ -186,10 +186,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "fronts): they are kept for their comparisons, but their states are not "
              "those of the current code (its loading state at 256² has 6.9 % less area "
              "than the sampled-kernel table's and 3.4 % less than the former default "
-             "kernel's); rerun a table with the command its title names. The 1024² row "
-             "of the default kernel's \"loading state only\" table was measured when a "
-             "stale pin could be released once (now twice, `moves.PIN_RELEASES`; the path's "
-             "loading states at 256² and 512² read the same to four digits either way). "
+             "kernel's); rerun a table with the command its title names. "
              "The table marked "
              "\"loading state only\" (`--loading-only`) adds 1024² for the first state of "
              "the path, where the whole path takes too long.", "",

@@ -12,7 +12,7 @@ from scipy import ndimage
 from . import kernels
 from .front import front_length_weights
 
-__all__ = ["band_widths", "layer_weights", "upper_band", "patch_sigmas",
+__all__ = ["band_widths", "layer_weights", "upper_band", "patch_sigmas", "walk_step",
            "smooth_along_front", "WIDTH_SMOOTHING", "WIDTH_RANGE"]
 
 #: the effective band widths are averaged along the front over at least this many cells
@@ -191,6 +191,23 @@ def smooth_along_front(F: np.ndarray, front: np.ndarray, sigma,
     return num
 
 
+def walk_step(rows: np.ndarray, cols: np.ndarray, n: int):
+    """The lazy walk ½(I + D⁻¹ Adj) on n nodes joined by the undirected pairs (rows, cols)
+    (each pair once), as a CSR matrix with sorted columns (the row order of
+    :func:`spectralbem.kernels.front_walk`).  Row-stochastic: each step is a mean, so
+    staircase corners of higher degree gain no weight (an unnormalised walk biased a JKR
+    disc's balance by 5 % near pull-off); an isolated node keeps its value."""
+    from scipy import sparse
+
+    adj = sparse.coo_matrix((np.ones(rows.size), (rows, cols)), shape=(n, n)).tocsr()
+    adj = (adj + adj.T).tocsr()
+    deg = np.asarray(adj.sum(axis=1)).ravel()
+    step = (sparse.diags(0.5 / np.maximum(deg, 1.0)) @ adj
+            + sparse.diags(np.where(deg > 0, 0.5, 1.0))).tocsr()
+    step.sort_indices()
+    return step
+
+
 def _smooth_on_front_graph(F, ok, sigma, weights, normal) -> np.ndarray:
     """Weighted average of F along the front graph: the front cells ``ok`` joined to their
     8-neighbours on the front whose normals agree (n_i·n_j > 0, so the two sides of a neck or
@@ -199,8 +216,6 @@ def _smooth_on_front_graph(F, ok, sigma, weights, normal) -> np.ndarray:
     ½ cell² a step).  A ratio of sums: Σ K w F / Σ K w.  ``sigma``: a number, or an N²
     array of per-cell σ (nan off ``ok``), each group of one σ walking on its own; cells of
     σ ≤ 0 keep F.  The walk is compiled (:func:`spectralbem.kernels.front_walk`)."""
-    from scipy import sparse
-
     shape = F.shape
     idx = np.flatnonzero(ok)
     n = idx.size
@@ -218,15 +233,7 @@ def _smooth_on_front_graph(F, ok, sigma, weights, normal) -> np.ndarray:
         sel[sel] = (nx_[sel] * nx_[ks] + ny_[sel] * ny_[ks] > 0) & (sig[sel] == sig[ks])
         rows.append(np.flatnonzero(sel))
         cols.append(k[sel])
-    r_, c_ = np.concatenate(rows), np.concatenate(cols)
-    adj = sparse.coo_matrix((np.ones(r_.size), (r_, c_)), shape=(n, n)).tocsr()
-    adj = (adj + adj.T).tocsr()
-    deg = np.asarray(adj.sum(axis=1)).ravel()
-    # row-stochastic: each step is a mean, so staircase corners of higher degree gain no
-    # weight (an unnormalised walk biased a JKR disc's balance by 5 % near pull-off)
-    step = (sparse.diags(0.5 / np.maximum(deg, 1.0)) @ adj
-            + sparse.diags(np.where(deg > 0, 0.5, 1.0))).tocsr()
-    step.sort_indices()
+    step = walk_step(np.concatenate(rows), np.concatenate(cols), n)
     w = np.ones(n) if weights is None else weights.ravel()[idx].astype(float)
     num, den = w * F.ravel()[idx], w.copy()
     steps = np.rint(2 * np.maximum(sig, 0.0) ** 2).astype(np.int64)

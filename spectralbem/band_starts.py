@@ -8,8 +8,8 @@ correction a band solve adds to p (its solution minus p, local to the band and d
 away from it) changes little: the next test of the same band starts from p plus the last
 correction instead of p alone, and its first residual is that of the front's move instead
 of the whole band's.  The answer is the solve's, to its tolerance; only the number of Krylov
-products changes (measured on the rough cases of docs/rough_convergence.md: 29 % fewer band
-products on the viscoelastic loading state at 512², 16 % on the elastic one, the same states;
+products changes (measured on the rough cases of docs/rough_convergence.md: 33 % fewer band
+products on the viscoelastic loading state at 512², 22 % on the elastic one, the same states;
 docs/performance.md).
 
 The corrections are kept in float32 (a start needs no more), the latest of each band, on the

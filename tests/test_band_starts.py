@@ -57,7 +57,7 @@ def test_front_tests_of_a_moved_mask_same_balance_fewer_products(monkeypatch, vi
     corrections as starts the second test's balance F is the same to 1e-7 (the band solves'
     tolerance is 1e-10); the viscoelastic band solves (GMRES) take fewer products, the
     elastic ones (CG, a decade per product here) about as many.  The saving grows with the
-    front: 29 % (viscoelastic) and 16 % (elastic) on the 512² rough states of
+    front: 33 % (viscoelastic) and 22 % (elastic) on the 512² rough states of
     docs/rough_convergence.md (docs/performance.md).  (A whole front moved by half a cell
     gains nothing: every band's correction changes.)"""
     from spectralbem import reference as ref

@@ -22,11 +22,12 @@ WIDTH_SMOOTHING = 2.0
 WIDTH_RANGE = (0.5, 1.5)
 
 
-def band_widths(b, area_out, area_in, normal, sigma: float, a0: float):
-    """(outer, inner): the effective width (m) of each front cell's closing (outer front
-    cells) and opening (inner front cells) band, its area per front length ds
-    (front.front_length_weights), both averaged along the front over
-    max(σ, WIDTH_SMOOTHING) cells; nan off the front.
+def band_widths(b, area, normal, sigma: float, a0: float):
+    """The effective width (m) of each front cell's closing (outer front cells) and opening
+    (inner front cells) band, nan elsewhere: its area per front length ds
+    (front.front_length_weights), averaged along the front over max(σ, WIDTH_SMOOTHING)
+    cells.  ``area``: each front cell's band area (N², both sides in one array), overwritten
+    by the result (the largest transient of a front test is one N² array less).
 
     An elastic scene's band holds the cells whose centre lies within a0 of the other
     side's centres: on an axis-aligned front that is a0 of width, on an oblique digital
@@ -39,16 +40,17 @@ def band_widths(b, area_out, area_in, normal, sigma: float, a0: float):
     ds = front_length_weights(normal, *b.spacing)
     sig = max(sigma, WIDTH_SMOOTHING)
     lo, hi = WIDTH_RANGE
-    out = []
-    for area, front in ((area_out, b.outer_front), (area_in, b.inner_front)):
-        ok = front & (area > 0)
-        # Σ K area / Σ K ds: the ratio area/ds averaged with the weights ds
-        ratio = np.full(area.shape, np.nan)
-        ratio[ok] = area[ok] / ds[ok]
-        sm = smooth_along_front(ratio, ok, sig, ds, normal)
-        del ratio
-        out.append(np.clip(sm, lo * a0, hi * a0, out=sm))  # in place: nan stays nan
-    return out
+    fronts = (b.outer_front, b.inner_front)
+    oks = [front & (area > 0) for front in fronts]
+    # Σ K area / Σ K ds: the ratio area/ds averaged with the weights ds; the smoothing reads
+    # only a side's own cells, so each side's result is written over its own front cells
+    np.divide(area, ds, out=area, where=oks[0] | oks[1])
+    for ok, front in zip(oks, fronts, strict=True):
+        sm = smooth_along_front(area, ok, sig, ds, normal)
+        area[front] = np.clip(sm[front], lo * a0, hi * a0)  # nan stays nan
+        del sm
+    area[~(fronts[0] | fronts[1])] = np.nan
+    return area
 
 
 def upper_band(b, a0: float) -> np.ndarray:

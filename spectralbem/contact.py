@@ -210,7 +210,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     load = mean_pressure is not None
     pl = op.plan
     loops = op.backend.loops  # the fused loops (spectralbem.kernels) of the operator's backend
-    kn = np.ascontiguousarray(op.kernel.real / n)  # kernel with the 1/N of the inverse
+    kn = np.ascontiguousarray(op.multipliers()[0].real)  # kernel with the 1/N of the inverse
     mult = np.ascontiguousarray(op.cell.rfft_weights()[0])  # Parseval column multiplicities
     k_sparse = sparse_max(n)
     refill = 8 * n >= REFILL_BYTES  # float64 FFT input

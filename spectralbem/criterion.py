@@ -203,18 +203,22 @@ def _sigma_cells(front_smoothing: float, a0: float, hmin: float, shape) -> float
     return min(front_smoothing * a0 / hmin, 0.5 * max(shape))
 
 
-def _front_average(b: Bands, F_close, W_close, F_open, W_open, sigma: float,
-                   per_radius: float, normal=None):
-    """The closing and opening balances averaged along their fronts (ratio of sums, each
-    front cell weighing by its band's Δγ·area), with the per-patch σ of
-    :func:`patch_sigmas`."""
+def _front_average(b: Bands, F, W, sigma: float, per_radius: float, normal=None):
+    """The closing (outer front cells of ``F``) and opening (inner front cells) balances
+    averaged along their fronts (ratio of sums, each front cell weighing by its band's
+    Δγ·area ``W``), with the per-patch σ of :func:`patch_sigmas`; in place of ``F``, nan
+    off the front (each side's average reads its own cells only)."""
     sig_out, sig_in = patch_sigmas(b.mask, b.outer_front, b.inner_front, sigma, per_radius)
     if not FRONT_GRAPH:
         normal = None
     elif normal is None:
         normal = b.normal
-    return (smooth_along_front(F_close, b.outer_front, sig_out, W_close, normal),
-            smooth_along_front(F_open, b.inner_front, sig_in, W_open, normal))
+    for front, sig in ((b.outer_front, sig_out), (b.inner_front, sig_in)):
+        sm = smooth_along_front(F, front, sig, W, normal)
+        F[front] = sm[front]
+        del sm
+    F[~(b.outer_front | b.inner_front)] = np.nan
+    return F
 
 
 def _owner_sums(values: dict, owner: np.ndarray, owners: np.ndarray, weight, acc: dict
@@ -332,8 +336,9 @@ class _Tester:
         self.solves, self.ok, self.msg = 0, True, "converged"
 
     def observe(self, q):
-        """Σ q f of each observable, and the mean pressure (key ``mean_pressure``)."""
-        out = {k: float(np.vdot(q, np.broadcast_to(f, q.shape)))
+        """Σ q f of each observable (a field, or a scalar: f Σ q), and the mean pressure
+        (key ``mean_pressure``)."""
+        out = {k: float(f) * float(q.sum()) if np.ndim(f) == 0 else float(np.vdot(q, f))
                for k, f in self.observables.items()}
         out["mean_pressure"] = float(q.mean())
         return out
@@ -402,7 +407,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     viscoelastic scenes, elastic ones from two cells of a0), else the whole layers of
     :func:`band_weights`.  ``w`` is the
     displacement prescribed in contact, ``p`` the solution on ``mask``, ``u`` its
-    displacement C p if the caller has it.  ``observables``: name -> field f; the sums
+    displacement C p if the caller has it.  ``observables``: name -> field f (or a scalar); the sums
     Σ p f of each test state are recorded (in ``closing``/``opening`` entries' fifth item)
     so that integrated quantities can be interpolated to the sub-cell front.
     ``front_smoothing``: σ of the average along the front in units of a0 (None: the
@@ -476,27 +481,16 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             pending["open"].append((owners[has], [(c, wt) for _, c, wt, _ in runs],
                                     acc["area"][has]))
     del plan, upper
-    width = _joined(b, *band_widths(b, band_area, band_area, normal, sigma, a0))
+    width = band_widths(b, band_area, normal, sigma, a0)  # in place of band_area
     del band_area
     # ratio of sums along the front: each front cell weighs by its band's Δγ·area, so that
     # owners of unequal band patches (staircase corners) do not bias the local balance
-    F = _joined(b, *_front_average(b, F, W, F, W, sigma, smoothing_per_radius, normal))
+    F = _front_average(b, F, W, sigma, smoothing_per_radius, normal)  # in place
     del normal, W
     F[force_close] = -np.inf
     out = FrontTest(F, g_band, closing, opening, cols, b, tester.solves, bool(tester.ok),
                     tester.msg, width, pending=pending)
     return complete_adjoint(out, op, mask, p, rtol) if adjoint else out
-
-
-def _joined(b: Bands, outer_values: np.ndarray, inner_values: np.ndarray) -> np.ndarray:
-    """One array of a closing (outer front) and an opening (inner front) quantity, nan
-    elsewhere (``outer_values`` reused)."""
-    out = outer_values
-    if out is inner_values:
-        out = out.copy()
-    out[~(b.outer_front | b.inner_front)] = np.nan
-    out[b.inner_front] = inner_values[b.inner_front]
-    return out
 
 
 def _mirror(field_: np.ndarray, valid: np.ndarray, cells: np.ndarray, owners: np.ndarray,
@@ -561,7 +555,9 @@ def predictor_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np
         _balance(dL, cells, own, _dg_area(dg, area, cells), F_open, W_open)
     sigma = _sigma_cells(default_smoothing(front_smoothing, op.viscoelastic), a0, hmin,
                          mask.shape)
-    F_close, F_open = _front_average(b, F_close, W_close, F_open, W_open, sigma,
-                                     smoothing_per_radius)
-    return FrontTest(_joined(b, F_close, F_open), g_band, {}, {}, [np.ones(mask.shape, bool)],
+    inner = b.inner_front  # the two sides' values in one array each
+    F_close[inner], W_close[inner] = F_open[inner], W_open[inner]
+    del F_open, W_open
+    F = _front_average(b, F_close, W_close, sigma, smoothing_per_radius)
+    return FrontTest(F, g_band, {}, {}, [np.ones(mask.shape, bool)],
                      b, 0, True, "predictor (no solves)")

@@ -156,11 +156,17 @@ def front_outputs(op, r, dgamma) -> dict:
     cell = op.cell
     t = r.tests
     b = t.bands
-    normal = b.normal  # computed on demand (a smoothing of the mask): once here
-    ds = front_length_weights(normal, cell.hx, cell.hy)
+    # on the outer front cells (packed: the normal of the tests, no N² normal is made)
+    io = np.flatnonzero(b.outer_front)
+    nx, ny = b.outer_normal()
+    ds_p = front_length_weights((nx, ny), cell.hx, cell.hy)
+    ds = np.zeros(cell.shape)  # the weights on the grid, where release_rates reads them
+    ds.ravel()[io] = ds_p
     ok = b.outer_front & (r.resolved if r.resolved is not None else True)
-    s = np.clip(np.where(ok & np.isfinite(r.offset_out), r.offset_out, 0.0), -r.a0, r.a0)
-    area = float(r.contact.sum() * cell.cell_area + np.sum(s * ds))
+    s = r.offset_out.ravel()[io]
+    s = np.clip(np.where(ok.ravel()[io] & np.isfinite(s), s, 0.0), -r.a0, r.a0)
+    area = float(r.contact.sum() * cell.cell_area + np.sum(s * ds_p))
+    del s
     dg = np.broadcast_to(np.asarray(dgamma, float), cell.shape)
     edge = ok & np.isfinite(t.dLP_rate)
     length = float(np.sum(ds[edge]))
@@ -175,9 +181,10 @@ def front_outputs(op, r, dgamma) -> dict:
         G1G2 = [0.0 if (edge & col).any() and not (ok & col).any() else g
                 for g, col in zip(G1G2, cols[:2], strict=True)]
     vhat = sliding_direction(op)
-    nv = normal[0] * vhat[0] + normal[1] * vhat[1]
-    release = G - dg if np.ndim(dgamma) == 0 else G
-    force = -float(np.sum(np.where(ok, release * nv * ds, 0.0)))
+    nv = nx * vhat[0] + ny * vhat[1]
+    Gp = G.ravel()[io]
+    release = Gp - dg.ravel()[io] if np.ndim(dgamma) == 0 else Gp
+    force = -float(np.sum(np.where(ok.ravel()[io], release * nv * ds_p, 0.0)))
     W = float(r.pressure.sum()) * cell.cell_area
     small = abs(W) <= 1e-9 * float(np.abs(r.pressure).sum()) * cell.cell_area
     return dict(area=area, area_fraction=area / (cell.Lx * cell.Ly),

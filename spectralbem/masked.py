@@ -58,17 +58,16 @@ class PackedSystem:
     """
 
     def __init__(self, op: SpectralOperator, mask: np.ndarray, project: bool = False,
-                 transpose: bool = False):
+                 transpose: bool = False, idx: np.ndarray | None = None):
         self.op = op
-        self.idx = np.flatnonzero(mask)
+        self.idx = np.flatnonzero(mask) if idx is None else idx  # idx: the caller's, shared
         self.n = self.idx.size
         self.project = project
         pl = op.plan
         self.pl = pl
         self.rin = pl.input_buffer.reshape(-1)
         self.rin[:] = 0.0
-        self.k = op._kc if transpose else op._k
-        self.kinv = op.inverse_multipliers[int(transpose)]
+        self.k, self.kinv = op.multipliers(transpose)
         self.pairs = 0
 
     def _pass(self, v: np.ndarray, k: np.ndarray) -> np.ndarray:
@@ -128,8 +127,10 @@ def fused_cg(system: PackedSystem, r0: np.ndarray, rtol: float, maxiter: int):
     return x, used, rel
 
 
-#: rows of each block of the fused GMRES basis (products against it are BLAS 2 per block)
-BASIS_BLOCK = 32
+#: rows of each block of the fused GMRES basis (products against it are BLAS 2 per block);
+#: the band solves of an adhesive state converge in 15-25 products, so a block of 8 leaves
+#: at most 7 unused rows allocated (a first block of 33 held 8-18 vectors too many)
+BASIS_BLOCK = 8
 
 
 class _Basis:
@@ -179,6 +180,13 @@ class _Basis:
         return out
 
 
+def _grown(H: np.ndarray, m: int) -> np.ndarray:
+    """H copied into the top-left corner of a zero (m + 1) × m matrix."""
+    G = np.zeros((m + 1, m))
+    G[: H.shape[0], : H.shape[1]] = H
+    return G
+
+
 def fused_gmres(system: PackedSystem, r0: np.ndarray, rtol: float, maxiter: int):
     """Right-preconditioned restarted GMRES for the correction x of ``A M x' = r0``, x = M x'.
 
@@ -195,7 +203,7 @@ def fused_gmres(system: PackedSystem, r0: np.ndarray, rtol: float, maxiter: int)
         return x, 0, 0.0
     m = int(max(10, min(RESTART_MAX, RESTART_BYTES // (8 * n) - 1)))
     V = _Basis(n, m)  # grown as the iteration needs it
-    H = np.zeros((m + 1, m))
+    H = np.zeros((min(m, 2 * BASIS_BLOCK) + 1, min(m, 2 * BASIS_BLOCK)))  # grown likewise
     cs, sn = np.zeros(m), np.zeros(m)
     r = r0.copy()
     used = 0
@@ -210,6 +218,8 @@ def fused_gmres(system: PackedSystem, r0: np.ndarray, rtol: float, maxiter: int)
         e[0] = beta
         k = 0
         while k < m and used < maxiter:
+            if k == H.shape[1]:  # the Hessenberg matrix doubles (it is (m + 1) × m at most)
+                H = _grown(H, min(m, 2 * k))
             b, i = V._block(k)
             w = system.apply(b[i])
             used += 1
@@ -290,7 +300,13 @@ class MaskedSystem:
         self.idx = np.flatnonzero(mask)
         self.n = self.idx.size
         self.transpose = transpose
+        self._mult = None  # (Ĉ, 1/Ĉ) or the transpose's, fetched on first use
         self.matvecs = 0
+
+    def _multipliers(self):
+        if self._mult is None:
+            self._mult = self.op.multipliers(self.transpose)
+        return self._mult
 
     @functools.cached_property
     def _full(self) -> np.ndarray:  # work arrays of scipy's solvers, allocated on first use
@@ -308,13 +324,12 @@ class MaskedSystem:
     def matvec(self, x: np.ndarray) -> np.ndarray:
         self.matvecs += 1
         self._full.flat[self.idx] = x
-        apply = self.op.apply_transpose if self.transpose else self.op.apply
-        apply(self._full, out=self._out)
+        self.op._apply(self._full, self._multipliers()[0], self._out)
         return self._out.flat[self.idx].copy()
 
     def precondition(self, x: np.ndarray) -> np.ndarray:
         self._full.flat[self.idx] = x
-        self.op.apply_inverse(self._full, out=self._out, transpose=self.transpose)
+        self.op._apply(self._full, self._multipliers()[1], self._out)
         return self._out.flat[self.idx].copy()
 
     def linear_operator(self) -> LinearOperator:
@@ -338,7 +353,7 @@ def _fused(op, mask, b, x, bnorm, rtol, maxiter, transpose, counter):
     """The fused preconditioned solve (CG on a symmetric operator, else right-preconditioned
     GMRES) from the packed start ``x``: (x, true relative residual, message); its products
     (two FFT pairs each, plus the residual's pairs) are added to ``counter.matvecs``."""
-    system = PackedSystem(op, mask, transpose=transpose)
+    system = PackedSystem(op, mask, transpose=transpose, idx=counter.idx)
     r0 = b - system.operator(x)
     rr = float(np.linalg.norm(r0)) / bnorm
     krylov = fused_cg if op.symmetric else fused_gmres

@@ -31,14 +31,15 @@ def quotient(num: float, den: float, num_scale: float = 0.0, den_scale: float = 
 
 def friction_observables(op, heights) -> dict:
     """The fields f whose sums Σ p f an adhesive solve records for each band state
-    (``observables`` of adhesive.solve_adhesive): the unit field (``load``) and the
-    rigid profile's slopes −v̂·∇h (``force``) and −v̂⊥·∇h (``lateral``), v̂⊥ = ẑ × v̂."""
+    (``observables`` of adhesive.solve_adhesive): the unit field (``load``, the scalar 1)
+    and the rigid profile's slopes −v̂·∇h (``force``) and −v̂⊥·∇h (``lateral``),
+    v̂⊥ = ẑ × v̂."""
     from .contact import sliding_direction
 
     cell = op.cell
     vhat = sliding_direction(op)
     vperp = (-vhat[1], vhat[0])
-    return {"load": np.ones(cell.shape), "force": -cell.derivative(heights, vhat),
+    return {"load": 1.0, "force": -cell.derivative(heights, vhat),
             "lateral": -cell.derivative(heights, vperp)}
 
 

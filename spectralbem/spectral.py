@@ -172,11 +172,17 @@ class SpectralOperator:
         self.velocity = v
         self.viscoelastic = (not material.is_elastic) and bool(np.any(v != 0))
         self.threads = threads
-        self.kernel = self._build_kernel()  # half spectrum, unscaled (m/Pa)
-        n = cell.Nx * cell.Ny
-        self._k = self.kernel / n
-        self._kc = np.conj(self._k) if self.viscoelastic else self._k
+        # the half spectrum scaled by the inverse transform's 1/(Nx Ny): the only copy of the
+        # kernel kept (:attr:`kernel` unscales it; transposes are built by the solves that
+        # need them, :meth:`multipliers`)
+        self._k = self._build_kernel() / (cell.Nx * cell.Ny)
         self._plan = None
+
+    @property
+    def kernel(self) -> np.ndarray:
+        """Ĉ on the half spectrum, unscaled (m/Pa): a new array (exact where Nx Ny is a
+        power of two)."""
+        return self._k * (self.cell.Nx * self.cell.Ny)
 
     # -- kernel -----------------------------------------------------------------------------
     def _build_kernel(self) -> np.ndarray:
@@ -226,13 +232,13 @@ class SpectralOperator:
     def even_part(self) -> "SpectralOperator":
         """The symmetric operator C^E with kernel Re Ĉ (Eq. 2, even part): the in-phase
         compliance at each wavevector's frequency q·v; ``self`` when already symmetric."""
-        return self._symmetric_with(self.kernel.real)
+        return self._symmetric_with(self._k.real)
 
     def magnitude_part(self) -> "SpectralOperator":
         """The symmetric operator with kernel |Ĉ| (even in q, as |Ĉ(−q)| = |conj Ĉ(q)|): the
         compliance 1/|E(q·v)| with which contact-area theories of sliding rubber (Persson's)
         replace the viscoelastic slab; ``self`` when already symmetric."""
-        return self._symmetric_with(np.abs(self.kernel))
+        return self._symmetric_with(np.abs(self._k))
 
     def relaxed_part(self) -> "SpectralOperator":
         """The operator of the relaxed elastic slab (E0, same layer, at rest): the start of
@@ -249,9 +255,7 @@ class SpectralOperator:
         sym.__dict__.update({k: v for k, v in self.__dict__.items()
                              if k not in ("span", "inverse_multipliers")})
         sym.viscoelastic = False
-        sym.kernel = np.ascontiguousarray(kernel)
-        sym._k = sym.kernel / (self.cell.Nx * self.cell.Ny)
-        sym._kc = sym._k
+        sym._k = np.ascontiguousarray(kernel)  # scaled as self._k
         return sym
 
     @property
@@ -275,7 +279,17 @@ class SpectralOperator:
 
     def apply_transpose(self, p: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
         """Cᵀ p (kernel conj Ĉ): the adjoint used for δL_P attribution."""
-        return self._apply(p, self._kc, out)
+        return self._apply(p, self.multipliers(transpose=True)[0], out)
+
+    def multipliers(self, transpose: bool = False) -> tuple:
+        """(Ĉ, 1/Ĉ) on the half spectrum, scaled for :meth:`apply` and
+        :meth:`apply_inverse`, or their transposes' (conj Ĉ, conj 1/Ĉ): the operator keeps
+        the first pair only, a viscoelastic transpose pair is built on each call (two
+        complex half-spectrum arrays, held by the adjoint solve that asks for them)."""
+        k, kinv = self._k, self.inverse_multipliers
+        if transpose and self.viscoelastic:
+            return np.conj(k), np.conj(kinv)
+        return k, kinv
 
     def apply_even(self, p: np.ndarray) -> np.ndarray:
         """C^E p, kernel Re Ĉ (Eq. 2, even part)."""
@@ -301,13 +315,12 @@ class SpectralOperator:
     def apply_inverse(self, u: np.ndarray, out: np.ndarray | None = None,
                       transpose: bool = False) -> np.ndarray:
         """The unmasked inverse F⁻¹[1/Ĉ] F u (the Fourier preconditioner), or its transpose."""
-        return self._apply(u, self.inverse_multipliers[int(transpose)], out)
+        return self._apply(u, self.multipliers(transpose)[1], out)
 
     @functools.cached_property
-    def inverse_multipliers(self) -> tuple:
-        """(1/Ĉ, its transpose's), scaled as :meth:`inverse_kernel` (built once)."""
-        k = self.inverse_kernel()
-        return k, (np.conj(k) if self.viscoelastic else k)
+    def inverse_multipliers(self) -> np.ndarray:
+        """1/Ĉ, scaled as :meth:`inverse_kernel` (built once)."""
+        return self.inverse_kernel()
 
     # -- energies and friction --------------------------------------------------------------
     def elastic_energy(self, p: np.ndarray) -> float:

@@ -132,3 +132,22 @@ def test_projected_solve_of_a_flat_punch(material, velocity):
     assert used > 0 and rel <= 1e-10
     assert np.linalg.norm(p - ref) / np.linalg.norm(ref) < 1e-8
     assert np.ptp(p[punch]) > p[punch].mean()  # not the uniform start
+
+
+def test_an_operator_keeps_one_kernel_and_builds_transposes_on_demand():
+    """The operator holds Ĉ and 1/Ĉ once; a viscoelastic transpose pair (conj Ĉ, conj 1/Ĉ)
+    is built on each request and is the adjoint: ⟨Cᵀ p, q⟩ = ⟨p, C q⟩ to rounding; a
+    symmetric operator returns its own arrays."""
+    op = SpectralOperator(CELL, SLS, velocity=(0.05, 0.02))
+    k, kinv = op.multipliers()
+    kt, kinvt = op.multipliers(transpose=True)
+    assert np.array_equal(kt, np.conj(k)) and np.array_equal(kinvt, np.conj(kinv))
+    assert kt is not op.multipliers(transpose=True)[0]  # not kept
+    rng = np.random.default_rng(1)
+    p, q = rng.standard_normal((2,) + CELL.shape)
+    lhs, rhs = np.vdot(op.apply_transpose(p), q), np.vdot(p, op.apply(q))
+    assert abs(lhs - rhs) <= 1e-12 * np.linalg.norm(op.apply(q)) * np.linalg.norm(p)
+    assert np.array_equal(op.kernel, op.multipliers()[0] * CELL.Nx * CELL.Ny)
+    el = SpectralOperator(CELL, Elastic(1.0, 0.5))
+    assert all(a is b for a, b in zip(el.multipliers(), el.multipliers(transpose=True),
+                                      strict=True))

@@ -32,11 +32,12 @@ the relaxed E0) over the 60 cases of tests/test_newton.py's 64² surface (β 10-
 Δγ = 0.01 J/m², a0 = 7.8 µm, p̄ = 1e4 Pa, loading), elastic and SLS, against the
 adhesiveless solve of the same scene (adhesion removed), at 128², 256², 512² (section
 ``adhesive_cost``, bench/viscoelastic_adhesive.json), and the figure
-docs/figures/solve_cost.png: CPU seconds against N² for the elastic PK, the viscoelastic
-adhesiveless and the adhesive solves.
+docs/figures/solve_cost.png: CPU seconds and peak memory against N² for the elastic PK, the
+viscoelastic adhesiveless and the adhesive solves (``--figure`` redraws it from the JSON).
 
 Usage: python bench/viscoelastic.py [--sizes 256 512 1024 2048] [--runs 3]
        python bench/viscoelastic.py --robustness | --starts | --adhesive [--sizes 128 256 512]
+       python bench/viscoelastic.py --figure
 """
 
 from __future__ import annotations
@@ -355,18 +356,20 @@ def adhesive_markdown(rows) -> str:
 
 
 def cost_figure(adhesive, table):
-    """CPU seconds against N² (log-log): elastic PK, viscoelastic adhesiveless, adhesive."""
+    """CPU seconds (left) and peak memory (right) against N² (log-log): the elastic PK, the
+    viscoelastic adhesiveless and the adhesive solves of the tables."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(6.4, 4.4), constrained_layout=True)
+    fig, (ax, am) = plt.subplots(1, 2, figsize=(11.0, 4.4), constrained_layout=True)
     newton_rows = [r for r in table if r["method"] == "newton"]
     series = [
         ("elastic PK (Tamaas-table surface)", newton_rows, "elastic_seconds", "k", "o"),
         ("viscoelastic, semismooth Newton (same)", newton_rows, "seconds", "C0", "s"),
     ]
+    memory = [("viscoelastic, semismooth Newton", newton_rows, "C0", "s")]
     for mat, colour in (("elastic", "C2"), ("sls", "C3")):
         rs = [r for r in adhesive if r["material"] == mat]
         series.append((f"adhesive state, {mat} (rough_convergence)", rs, "adhesive_seconds",
@@ -374,16 +377,32 @@ def cost_figure(adhesive, table):
         series.append((f"the same with the coarse start, {mat}", rs, "coarse_seconds", colour,
                        "x"))
         series.append((f"its adhesiveless solve, {mat}", rs, "adhesiveless_seconds", colour, "v"))
+        memory.append((f"adhesive state, {mat}", rs, colour, "^"))
     for label, rs, key, colour, marker in series:
         if rs:
             n2 = [r["N"] ** 2 for r in rs]
             ax.loglog(n2, [r[key] for r in rs], marker=marker, color=colour, label=label,
                       ls={"v": "--", "x": ":"}.get(marker, "-"))
+    n2_all = []
+    for label, rs, colour, marker in memory:
+        rs = [r for r in rs if r.get("peak_arrays")]
+        if rs:
+            n2 = [r["N"] ** 2 for r in rs]
+            n2_all += n2
+            am.loglog(n2, [r["peak_arrays"] * 8e-6 * r["N"] ** 2 for r in rs], marker=marker,
+                      color=colour, label=f"{label} (numpy peak)")
+    if n2_all:
+        lim = np.array([min(n2_all), max(n2_all)], float)
+        am.loglog(lim, 25 * 8e-6 * lim, "k--", lw=1, label="target: 25 N² float64 arrays")
     ax.set_xlabel("grid cells N²")
     ax.set_ylabel("CPU seconds (one thread)")
     ax.set_title("Cost of a solve against the grid size")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
+    am.set_xlabel("grid cells N²")
+    am.set_ylabel("peak numpy allocations (MB)")
+    am.set_title("Memory of a solve against the grid size")
+    for a_ in (ax, am):
+        a_.grid(True, which="both", alpha=0.3)
+        a_.legend(fontsize=7)
     out = ROOT / "docs" / "figures" / "solve_cost.png"
     out.parent.mkdir(exist_ok=True)
     fig.savefig(out, dpi=120)
@@ -399,7 +418,13 @@ def main(argv=None):
     ap.add_argument("--robustness", action="store_true")
     ap.add_argument("--starts", action="store_true")
     ap.add_argument("--adhesive", action="store_true")
+    ap.add_argument("--figure", action="store_true",
+                    help="only redraw docs/figures/solve_cost.png from the JSON files")
     a = ap.parse_args(argv)
+    if a.figure:
+        cost_figure(json.loads((ROOT / "bench" / "viscoelastic_adhesive.json").read_text()),
+                    json.loads(Path(a.out).read_text()))
+        return
     stamp = f"Measured {time.strftime('%Y-%m-%d')} with `python bench/viscoelastic.py "
     if a.robustness:
         rows = robustness()

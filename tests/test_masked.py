@@ -151,3 +151,38 @@ def test_an_operator_keeps_one_kernel_and_builds_transposes_on_demand():
     el = SpectralOperator(CELL, Elastic(1.0, 0.5))
     assert all(a is b for a, b in zip(el.multipliers(), el.multipliers(transpose=True),
                                       strict=True))
+
+
+def test_fused_gmres_grows_its_storage_with_the_iterations(monkeypatch):
+    """The fused GMRES allocates its Arnoldi basis in blocks of BASIS_BLOCK rows and its
+    Hessenberg matrix by doubling, as the iteration needs them: a solve of k products holds
+    at most k + BASIS_BLOCK + 1 basis rows and a (2k + 1) × 2k matrix (a 301 × 300 matrix or a
+    33-row first block held up to 5.5 N² arrays on small grids), and still meets its
+    tolerance against a direct solve of the masked system."""
+    from spectralbem import masked
+
+    rows, cols = [], []
+    real_set, real_grown = masked._Basis.set, masked._grown
+
+    def set_(self, k, v):
+        real_set(self, k, v)
+        rows.append(sum(b.shape[0] for b in self.blocks))
+
+    def grown(H, m):
+        cols.append(m)
+        return real_grown(H, m)
+
+    monkeypatch.setattr(masked._Basis, "set", set_)
+    monkeypatch.setattr(masked, "_grown", grown)
+    op = SpectralOperator(CELL, SLS, velocity=(0.05, 0.0))
+    system = masked.PackedSystem(op, MASK)
+    b = SURF[MASK]
+    x, used, rel = masked.fused_gmres(system, b, 1e-12, 500)
+    assert rel <= 1e-12 and used > 2 * masked.BASIS_BLOCK  # the matrix had to grow
+    assert max(rows) <= used + masked.BASIS_BLOCK + 1
+    assert cols and max(cols) <= 2 * used
+    n = int(MASK.sum())
+    A = np.array([system.apply(e) for e in np.eye(n)]).T  # the preconditioned operator
+    y = np.linalg.solve(A, b)
+    ref_x = system.precondition(y)
+    assert np.linalg.norm(x - ref_x) <= 1e-8 * np.linalg.norm(ref_x)

@@ -94,9 +94,11 @@ def adjoint_weights(op: SpectralOperator, mask: np.ndarray, p: np.ndarray,
     For any closure A → A ∪ D at fixed Δ, Eq. (10) splits exactly into cells:
     δL_P = a Σ_{j∈D} p_j(A ∪ D) ψ_j (docs/derivations.md §11), whatever D is.
     """
-    r = -op.apply_odd(p)
-    res = solve_masked(op, mask, r, rtol=rtol, transpose=True)
+    # the right-hand side is a temporary the solve frees once packed, and is formed again
+    # after it (one FFT pair): no N² array of it is held while the Krylov basis grows
+    res = solve_masked(op, mask, -op.apply_odd(p), rtol=rtol, transpose=True)
     t = op.apply_transpose(res.field)
     del res
-    r -= t  # in place: one N² array fewer at the adjoint's peak
+    r = -op.apply_odd(p)
+    r -= t
     return r

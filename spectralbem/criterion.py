@@ -314,14 +314,13 @@ def _side_tests(test, plan, band, own, dist, io, upper, tol, dg, area, shape, ke
     return owners, acc, _weighted(parts, float(acc["area"].sum())), runs
 
 
-def _store_balance(F, W, band_area, owners, acc) -> np.ndarray:
-    """F = δL/(Δγ a) − 1, W = Δγ a and the band area on the owners of one test; returns
-    the owners whose band has a Δγ·area (those F is defined on)."""
+def _store_balance(F, W, band_area, owners, acc) -> None:
+    """F = δL/(Δγ a) − 1, W = Δγ a and the band area on the owners of one test (F only on
+    the owners whose band has a Δγ·area)."""
     has = acc["dg"] > 0
     F.ravel()[owners[has]] = acc["dL"][has] / acc["dg"][has] - 1.0
     W.ravel()[owners[has]] = acc["dg"][has]
     band_area.ravel()[owners] = acc["area"]
-    return has
 
 
 class _Tester:
@@ -432,22 +431,20 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
         starts.begin(mask | b.outer_band)
     tester = _Tester(op, w, mask, p, u, dg, rtol if band_rtol is None else band_rtol,
                      observables or {}, starts)
-    # one array per quantity: the outer (closing) and inner (opening) front cells are disjoint
-    F = np.full(mask.shape, np.nan)
     ib = np.flatnonzero(b.inner_band)
     g_band = np.full(ib.size, np.nan)
     force_close = np.zeros(mask.shape, bool)
-    W = np.zeros(mask.shape)  # Δγ·area of each owner's band (weights along the front)
     closing, opening = {}, {}
+    balances = []  # (owners, their sums) of each side's tests, packed until the solves end
     pending = {"w": w, "close": [], "open": []}  # what the adjoint split needs
-    normal = b.normal  # two N² arrays, computed once for the colours, averages and widths
+    normal = b.normal  # two N² arrays: for the colours and the plan, again after the solves
     b.outer_normal(normal)  # kept packed for the interpolations to the sub-cell front
     cols = colours(b, vhat, op.viscoelastic, normal)
     sigma = _sigma_cells(default_smoothing(front_smoothing, op.viscoelastic), a0, hmin,
                          mask.shape)
     plan, upper = _band_plan(op, b, a0, normal, sigma)
+    del normal  # not held while the band solves run (the peak of a front test)
     io_out, io_in = np.flatnonzero(b.outer_front), np.flatnonzero(b.inner_front)
-    band_area = np.zeros(mask.shape)  # each front cell's band area (widths interpolated)
     own, own_i = b.outer_owner.ravel(), b.inner_owner.ravel()
     d_out, d_in = b.outer_dist.ravel(), b.inner_dist.ravel()
     tol = 1e-9 * hmin
@@ -463,7 +460,8 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             owners, acc, closing[ci], runs = _side_tests(
                 tester.close, [(r, wo) for r, wo, _ in plan], band, own, d_out, io_out,
                 upper, tol, dg, area, mask.shape, (ci, "close"))
-            has = _store_balance(F, W, band_area, owners, acc)
+            has = acc["dg"] > 0
+            balances.append((owners, acc))
             pending["close"].append((owners[has], [(c, wt, apD) for _, c, wt, apD in runs],
                                      acc["dL"][has], acc["area"][has]))
         band = (own_i >= 0) & col_flat[np.maximum(own_i, 0)]
@@ -477,10 +475,19 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
                 # whole layers: the widest band's gaps last
                 fresh = np.isnan(g_band[slot]) | (reach is not None)
                 g_band[slot[fresh]] = gr[fresh]
-            has = _store_balance(F, W, band_area, owners, acc)
+            has = acc["dg"] > 0
+            balances.append((owners, acc))
             pending["open"].append((owners[has], [(c, wt) for _, c, wt, _ in runs],
                                     acc["area"][has]))
     del plan, upper
+    # one array per quantity: the outer (closing) and inner (opening) front cells are disjoint
+    F = np.full(mask.shape, np.nan)
+    W = np.zeros(mask.shape)  # Δγ·area of each owner's band (weights along the front)
+    band_area = np.zeros(mask.shape)  # each front cell's band area (widths interpolated)
+    for owners, acc in balances:
+        _store_balance(F, W, band_area, owners, acc)
+    del balances
+    normal = b.normal
     width = band_widths(b, band_area, normal, sigma, a0)  # in place of band_area
     del band_area
     # ratio of sums along the front: each front cell weighs by its band's Δγ·area, so that

@@ -67,7 +67,10 @@ class PackedSystem:
         self.pl = pl
         self.rin = pl.input_buffer.reshape(-1)
         self.rin[:] = 0.0
-        self.k, self.kinv = op.multipliers(transpose)
+        # the transpose's multipliers are the conjugates: applied as conj(k · conj(X)), in
+        # the plan's buffers, so that no conjugate copy is held during an adjoint solve
+        self.k, self.kinv = op.multipliers()
+        self.conj = transpose and op.viscoelastic
         self.pairs = 0
 
     def _pass(self, v: np.ndarray, k: np.ndarray) -> np.ndarray:
@@ -76,7 +79,13 @@ class PackedSystem:
         pl = self.pl
         be = self.op.backend
         be.scatter(self.rin, self.idx, v)
-        np.multiply(pl.forward_buffer(), k, out=pl.spectrum_buffer)
+        spec = pl.spectrum_buffer
+        if self.conj:
+            np.conjugate(pl.forward_buffer(), out=spec)
+            np.multiply(spec, k, out=spec)
+            np.conjugate(spec, out=spec)
+        else:
+            np.multiply(pl.forward_buffer(), k, out=spec)
         out = be.gather(pl.inverse_buffer().reshape(-1), self.idx)
         if self.project:
             out -= out.mean()
@@ -399,6 +408,7 @@ def solve_masked(op: SpectralOperator, mask: np.ndarray, rhs: np.ndarray, *, x0=
     if n == 0:
         return SolveResult(np.zeros(shape), 0, 0.0, True, "empty mask", "none")
     b = np.asarray(rhs, dtype=float).flat[sys_.idx].copy()
+    del rhs  # the caller's temporary right-hand side is freed before the solve
     if not np.all(np.isfinite(b)):
         raise ValueError("rhs has non-finite values on the mask")
     bnorm = float(np.linalg.norm(b))

@@ -279,13 +279,14 @@ class SpectralOperator:
 
     def apply_transpose(self, p: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
         """Cᵀ p (kernel conj Ĉ): the adjoint used for δL_P attribution."""
-        return self._apply(p, self.multipliers(transpose=True)[0], out)
+        return self._apply(p, np.conj(self._k) if self.viscoelastic else self._k, out)
 
     def multipliers(self, transpose: bool = False) -> tuple:
         """(Ĉ, 1/Ĉ) on the half spectrum, scaled for :meth:`apply` and
         :meth:`apply_inverse`, or their transposes' (conj Ĉ, conj 1/Ĉ): the operator keeps
         the first pair only, a viscoelastic transpose pair is built on each call (two
-        complex half-spectrum arrays, held by the adjoint solve that asks for them)."""
+        complex half-spectrum arrays; the fused masked solves apply the conjugates in the
+        transform buffers instead, masked.PackedSystem)."""
         k, kinv = self._k, self.inverse_multipliers
         if transpose and self.viscoelastic:
             return np.conj(k), np.conj(kinv)

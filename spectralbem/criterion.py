@@ -541,30 +541,26 @@ def predictor_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np
         u = op.apply(p)
     g = u - w
     normal = b.normal
-    F_close = np.full(mask.shape, np.nan)
-    F_open = np.full(mask.shape, np.nan)
+    # one array per quantity: the outer (closing) and inner (opening) front cells are disjoint
+    F = np.full(mask.shape, np.nan)
+    W = np.zeros(mask.shape)
     g_band = np.zeros(0)
-    W_close = np.zeros(mask.shape)
-    W_open = np.zeros(mask.shape)
 
     cells = np.flatnonzero(b.outer_band)
     if cells.size:
         own = b.outer_owner.ravel()[cells]
         p_plus = _mirror(p, mask, cells, own, normal, -a0, b.spacing)
         dL = -0.5 * area * g.ravel()[cells] * np.nan_to_num(p_plus)
-        _balance(dL, cells, own, _dg_area(dg, area, cells), F_close, W_close)
+        _balance(dL, cells, own, _dg_area(dg, area, cells), F, W)
     cells = np.flatnonzero(b.inner_band)
     if cells.size:
         own = b.inner_owner.ravel()[cells]
         g_minus = _mirror(g, ~mask, cells, own, normal, a0, b.spacing)
         g_band = g_minus
         dL = -0.5 * area * np.nan_to_num(g_minus) * p.ravel()[cells]
-        _balance(dL, cells, own, _dg_area(dg, area, cells), F_open, W_open)
+        _balance(dL, cells, own, _dg_area(dg, area, cells), F, W)
     sigma = _sigma_cells(default_smoothing(front_smoothing, op.viscoelastic), a0, hmin,
                          mask.shape)
-    inner = b.inner_front  # the two sides' values in one array each
-    F_close[inner], W_close[inner] = F_open[inner], W_open[inner]
-    del F_open, W_open
-    F = _front_average(b, F_close, W_close, sigma, smoothing_per_radius)
+    F = _front_average(b, F, W, sigma, smoothing_per_radius)
     return FrontTest(F, g_band, {}, {}, [np.ones(mask.shape, bool)],
                      b, 0, True, "predictor (no solves)")

@@ -11,6 +11,16 @@ from .spectral import SpectralOperator
 
 __all__ = ["complete_adjoint", "adjoint_weights"]
 
+#: restart length of the GMRES of the adjoint split's solves (the transposed solves and the
+#: opening bands' states of :func:`complete_adjoint`): their Krylov basis comes on top of
+#: the final state's fields, where a viscoelastic adhesive solve's memory peaks; the
+#: transposed solves of the rough SLS state at 256² take 31-33 products at restarts of 8,
+#: 12 or 16 against 29 unrestarted, with δL_P within 1e-10 (docs/performance.md, memory)
+ADJOINT_RESTART = 8
+#: products the restarted solve may take before the unrestarted one goes on from its answer
+#: (a strongly non-symmetric kernel can stall a short restart)
+ADJOINT_RESTART_GUARD = 200
+
 
 def complete_adjoint(tests, op: SpectralOperator, mask: np.ndarray, p: np.ndarray,
                      rtol: float = 1e-10):
@@ -61,7 +71,7 @@ def complete_adjoint(tests, op: SpectralOperator, mask: np.ndarray, p: np.ndarra
                 rest.ravel()[cells] = False
                 if not rest.any():  # opening detaches: no stress, no work of any kind
                     continue
-                res = solve_masked(op, rest, pend["w"], x0=p, rtol=rtol)
+                res = _short_solve(op, rest, lambda: pend["w"], p, rtol)
                 tests.solves += 1
                 if not res.converged:  # no split: the closing band's rate alone (nan here)
                     dLP[:] = np.nan
@@ -87,6 +97,20 @@ def _owner_bincount(values, owner, owners):
     return np.bincount(slot[keep], weights=values[keep], minlength=owners.size)
 
 
+def _short_solve(op, mask, make_rhs, x0, rtol, transpose=False):
+    """The masked solve of the right-hand side ``make_rhs()`` restarted every
+    :data:`ADJOINT_RESTART` products, within :data:`ADJOINT_RESTART_GUARD` of them; the
+    unrestarted solve goes on from its answer if it stalls (the right-hand side, a
+    temporary freed once packed, is formed again for it)."""
+    res = solve_masked(op, mask, make_rhs(), x0=x0, rtol=rtol, transpose=transpose,
+                       restart=ADJOINT_RESTART, maxiter=ADJOINT_RESTART_GUARD)
+    if res.converged:
+        return res
+    x0 = res.field
+    del res
+    return solve_masked(op, mask, make_rhs(), x0=x0, rtol=rtol, transpose=transpose)
+
+
 def adjoint_weights(op: SpectralOperator, mask: np.ndarray, p: np.ndarray,
                     rtol: float = 1e-10) -> np.ndarray:
     """ψ = -C^O p - Cᵀ λ̃ with C_AAᵀ λ = (-C^O p)|_A (one transposed masked solve).
@@ -96,7 +120,7 @@ def adjoint_weights(op: SpectralOperator, mask: np.ndarray, p: np.ndarray,
     """
     # the right-hand side is a temporary the solve frees once packed, and is formed again
     # after it (one FFT pair): no N² array of it is held while the Krylov basis grows
-    res = solve_masked(op, mask, -op.apply_odd(p), rtol=rtol, transpose=True)
+    res = _short_solve(op, mask, lambda: -op.apply_odd(p), None, rtol, transpose=True)
     t = op.apply_transpose(res.field)
     del res
     r = -op.apply_odd(p)

@@ -46,10 +46,10 @@ def band_widths(b, area, normal, sigma: float, a0: float):
     # only a side's own cells, so each side's result is written over its own front cells
     np.divide(area, ds, out=area, where=oks[0] | oks[1])
     for ok, front in zip(oks, fronts, strict=True):
-        sm = smooth_along_front(area, ok, sig, ds, normal)
-        area[front] = np.clip(sm[front], lo * a0, hi * a0)  # nan stays nan
-        del sm
+        smooth_along_front(area, ok, sig, ds, normal, out=area)
+        area[front & ~ok] = np.nan
     area[~(fronts[0] | fronts[1])] = np.nan
+    np.clip(area, lo * a0, hi * a0, out=area)  # nan stays nan
     return area
 
 
@@ -151,7 +151,8 @@ def patch_sigmas(mask, outer_front, inner_front, sigma: float, per_radius: float
 
 
 def smooth_along_front(F: np.ndarray, front: np.ndarray, sigma,
-                       weights: np.ndarray | None = None, normal=None) -> np.ndarray:
+                       weights: np.ndarray | None = None, normal=None,
+                       out: np.ndarray | None = None) -> np.ndarray:
     """Gaussian average of F over the front cells only (σ in cells).
 
     On a pixelated curved front the per-cell layer work scatters by ±30 % around the local
@@ -161,36 +162,35 @@ def smooth_along_front(F: np.ndarray, front: np.ndarray, sigma,
     or per-cell values from :func:`patch_sigmas` (each group of front cells with the same σ
     is averaged over itself only).  With the front's unit ``normal`` the average runs along
     the front itself (:func:`_smooth_on_front_graph`: never across a gap, a neck or to another
-    patch); without it, a Gaussian over the grid restricted to front cells.
+    patch); without it, a Gaussian over the grid restricted to front cells.  ``out`` (with
+    ``normal``): the array whose ``front`` cells receive the average (nan where there is
+    none), which may be F itself; the other cells are left as they are.
     """
+    if normal is not None and (isinstance(sigma, dict) or sigma > 0):
+        return _smooth_on_front_graph(F, front, sigma, weights, normal, out)
     if isinstance(sigma, dict):
-        if normal is not None:  # every group in one walk: its cells join their group only
-            per_cell = np.full(F.size, np.nan)
-            per_cell[sigma["cells"]] = sigma["sigma"]
-            per_cell = per_cell.reshape(F.shape)
-            return _smooth_on_front_graph(F, front & np.isfinite(F) & ~np.isnan(per_cell),
-                                          per_cell, weights, normal)
-        out = np.full(F.shape, np.nan)
+        res = np.full(F.shape, np.nan)
         for s_ in np.unique(sigma["sigma"]):
             sel = np.zeros(F.shape, bool)
             sel.ravel()[sigma["cells"][sigma["sigma"] == s_]] = True
             part = smooth_along_front(F, front & sel, float(s_), weights, normal)
-            out[sel] = part[sel]
-        return out
-    if sigma <= 0:
-        return F
-    ok = front & np.isfinite(F)
-    if normal is not None:
-        return _smooth_on_front_graph(F, ok, sigma, weights, normal)
-    wt = np.where(ok, 1.0 if weights is None else weights, 0.0)
-    num = np.where(ok, F, 0.0)
-    num *= wt
-    ndimage.gaussian_filter(num, sigma, mode="wrap", output=num)  # in place: two N² arrays
-    ndimage.gaussian_filter(wt, sigma, mode="wrap", output=wt)
-    sel = ok & (wt > 0)
-    num[sel] /= wt[sel]
-    num[~sel] = np.nan
-    return num
+            res[sel] = part[sel]
+    elif sigma <= 0:
+        res = F
+    else:
+        ok = front & np.isfinite(F)
+        wt = np.where(ok, 1.0 if weights is None else weights, 0.0)
+        res = np.where(ok, F, 0.0)
+        res *= wt
+        ndimage.gaussian_filter(res, sigma, mode="wrap", output=res)  # in place
+        ndimage.gaussian_filter(wt, sigma, mode="wrap", output=wt)
+        sel = ok & (wt > 0)
+        res[sel] /= wt[sel]
+        res[~sel] = np.nan
+    if out is None:
+        return res
+    out[front] = res[front]
+    return out
 
 
 def walk_step(rows: np.ndarray, cols: np.ndarray, n: int):
@@ -210,23 +210,32 @@ def walk_step(rows: np.ndarray, cols: np.ndarray, n: int):
     return step
 
 
-def _smooth_on_front_graph(F, ok, sigma, weights, normal) -> np.ndarray:
-    """Weighted average of F along the front graph: the front cells ``ok`` joined to their
-    8-neighbours on the front whose normals agree (n_i·n_j > 0, so the two sides of a neck or
-    of a narrow gap stay apart) and whose σ is the same; the kernel is the lazy walk
-    ½(I + D⁻¹ Adj) applied 2σ² times, a Gaussian of σ cells along a straight front (variance
-    ½ cell² a step).  A ratio of sums: Σ K w F / Σ K w.  ``sigma``: a number, or an N²
-    array of per-cell σ (nan off ``ok``), each group of one σ walking on its own; cells of
-    σ ≤ 0 keep F.  The walk is compiled (:func:`spectralbem.kernels.front_walk`)."""
+def _smooth_on_front_graph(F, front, sigma, weights, normal, out=None) -> np.ndarray:
+    """Weighted average of F along the front graph: the front cells (finite F, and a σ)
+    joined to their 8-neighbours on the front whose normals agree (n_i·n_j > 0, so the two
+    sides of a neck or of a narrow gap stay apart) and whose σ is the same; the kernel is
+    the lazy walk ½(I + D⁻¹ Adj) applied 2σ² times, a Gaussian of σ cells along a straight
+    front (variance ½ cell² a step).  A ratio of sums: Σ K w F / Σ K w.  ``sigma``: a
+    number, or the groups of :func:`patch_sigmas` ({"cells": sorted flat indices, "sigma":
+    their σ}), each group of one σ walking on its own; cells of σ ≤ 0 keep F.  The result
+    goes to ``out``'s front cells (a new array of nan elsewhere when None; ``out`` may be F:
+    F is read before it is written).  The walk is compiled
+    (:func:`spectralbem.kernels.front_walk`)."""
     shape = F.shape
-    idx = np.flatnonzero(ok)
+    fidx = np.flatnonzero(front)
+    idx = fidx[np.isfinite(F.ravel()[fidx])]
+    if isinstance(sigma, dict):  # the packed groups: no N² array of σ
+        cells = sigma["cells"]
+        slot = np.minimum(np.searchsorted(cells, idx), max(cells.size - 1, 0))
+        has = cells[slot] == idx if cells.size else np.zeros(idx.size, bool)
+        idx, sig = idx[has], np.asarray(sigma["sigma"], float)[slot[has]]
+    else:
+        sig = np.full(idx.size, float(sigma))
     n = idx.size
     pos = np.full(F.size, -1, np.int32 if F.size < 2**31 else np.int64)
     pos[idx] = np.arange(n)
     i, j = np.divmod(idx, shape[1])
     nx_, ny_ = normal[0].ravel()[idx], normal[1].ravel()[idx]
-    sig = (np.full(n, float(sigma)) if np.isscalar(sigma)
-           else np.asarray(sigma, dtype=float).ravel()[idx])
     rows, cols = [], []
     for di, dj in ((1, 0), (0, 1), (1, 1), (1, -1)):  # each undirected pair once
         k = pos[((i + di) % shape[0]) * shape[1] + (j + dj) % shape[1]]
@@ -235,14 +244,20 @@ def _smooth_on_front_graph(F, ok, sigma, weights, normal) -> np.ndarray:
         sel[sel] = (nx_[sel] * nx_[ks] + ny_[sel] * ny_[ks] > 0) & (sig[sel] == sig[ks])
         rows.append(np.flatnonzero(sel))
         cols.append(k[sel])
+    del pos
     step = walk_step(np.concatenate(rows), np.concatenate(cols), n)
     w = np.ones(n) if weights is None else weights.ravel()[idx].astype(float)
-    num, den = w * F.ravel()[idx], w.copy()
+    Fi = F.ravel()[idx]
+    num, den = w * Fi, w.copy()
     steps = np.rint(2 * np.maximum(sig, 0.0) ** 2).astype(np.int64)
     kernels.front_walk(step.indptr, step.indices, step.data, steps, num, den)
-    out = np.full(shape, np.nan)
     good = den > 0
-    out.ravel()[idx[good]] = num[good] / den[good]
+    val = np.where(good, num / np.where(good, den, 1.0), np.nan)
     keep = sig <= 0
-    out.ravel()[idx[keep]] = F.ravel()[idx[keep]]
+    val[keep] = Fi[keep]
+    if out is None:
+        out = np.full(shape, np.nan)
+    else:
+        out.ravel()[fidx] = np.nan
+    out.ravel()[idx] = val
     return out

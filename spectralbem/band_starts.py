@@ -13,10 +13,10 @@ products on the viscoelastic loading state at 512², 22 % on the elastic one, th
 docs/performance.md).
 
 The corrections are kept in float32 (a start needs no more), the latest of each band, on the
-cells of the mask and its outer bands, where the band solves have unknowns (on a rough
-contact of 20-50 % of the cells, about one N² float64 array for the eight bands of a
-viscoelastic test), and added to the start packed (masked.solve_masked's ``x0_add``): no
-full-grid copy of a start is made.
+cells of the mask and its outer bands (their indices in 32 bits), where the band solves
+have unknowns (on a rough contact of 20-50 % of the cells, about one N² float64 array for
+the eight bands of a viscoelastic test), and added to the start packed
+(masked.solve_masked's ``x0_add``): no full-grid copy of a start is made.
 """
 
 from __future__ import annotations
@@ -39,7 +39,8 @@ class BandStarts:
     def begin(self, cells: np.ndarray) -> None:
         """A new front test whose band solves have unknowns on ``cells`` (bool, N²)."""
         self._gen += 1
-        self._cells[self._gen] = np.flatnonzero(cells)
+        flat = np.flatnonzero(cells)  # 32-bit indices where they fit: half the memory
+        self._cells[self._gen] = flat.astype(np.int32) if cells.size < 2**31 else flat
         self._drop()
 
     def start(self, key):

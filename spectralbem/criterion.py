@@ -51,6 +51,7 @@ from .bands import (  # noqa: F401  (front_cells, band_split: part of this modul
     front_cells,
 )
 from .masked import solve_masked
+from .observables import observe
 from .spectral import SpectralOperator
 
 #: σ of the average of the balance along the front, in units of a0 (docs/theory.md,
@@ -214,9 +215,7 @@ def _front_average(b: Bands, F, W, sigma: float, per_radius: float, normal=None)
     elif normal is None:
         normal = b.normal
     for front, sig in ((b.outer_front, sig_out), (b.inner_front, sig_in)):
-        sm = smooth_along_front(F, front, sig, W, normal)
-        F[front] = sm[front]
-        del sm
+        smooth_along_front(F, front, sig, W, normal, out=F)  # each side reads its own cells
     F[~(b.outer_front | b.inner_front)] = np.nan
     return F
 
@@ -335,10 +334,9 @@ class _Tester:
         self.solves, self.ok, self.msg = 0, True, "converged"
 
     def observe(self, q):
-        """Σ q f of each observable (a field, or a scalar: f Σ q), and the mean pressure
-        (key ``mean_pressure``)."""
-        out = {k: float(f) * float(q.sum()) if np.ndim(f) == 0 else float(np.vdot(q, f))
-               for k, f in self.observables.items()}
+        """Σ q f of each observable (:func:`spectralbem.observables.observe`), and the mean
+        pressure (key ``mean_pressure``)."""
+        out = observe(self.observables, q)
         out["mean_pressure"] = float(q.mean())
         return out
 
@@ -406,9 +404,11 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     viscoelastic scenes, elastic ones from two cells of a0), else the whole layers of
     :func:`band_weights`.  ``w`` is the
     displacement prescribed in contact, ``p`` the solution on ``mask``, ``u`` its
-    displacement C p if the caller has it.  ``observables``: name -> field f (or a scalar); the sums
-    Σ p f of each test state are recorded (in ``closing``/``opening`` entries' fifth item)
-    so that integrated quantities can be interpolated to the sub-cell front.
+    displacement C p if the caller has it.  ``observables``: name -> field f, a scalar or a
+    :class:`~spectralbem.observables.ProfileSlope`; the sums Σ p f of each test state are
+    recorded (in ``closing``/``opening`` entries' fifth item) so that integrated
+    quantities can be interpolated to the sub-cell front — by the tests at the state's
+    tolerance only (an intermediate state's tests at ``band_rtol`` record none).
     ``front_smoothing``: σ of the average along the front in units of a0 (None: the
     default of the scene's kind, :func:`default_smoothing`), raised to
     ``smoothing_per_radius`` times the front radius of large patches (:func:`patch_sigmas`).
@@ -429,8 +429,11 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
         u = op.apply(p)
     if starts is not None:
         starts.begin(mask | b.outer_band)
+    # only a test at the state's tolerance can be the final state's, whose outputs read
+    # the observables: an intermediate state's loose tests skip them
+    final = band_rtol is None or band_rtol <= rtol
     tester = _Tester(op, w, mask, p, u, dg, rtol if band_rtol is None else band_rtol,
-                     observables or {}, starts)
+                     (observables or {}) if final else {}, starts)
     ib = np.flatnonzero(b.inner_band)
     g_band = np.full(ib.size, np.nan)
     force_close = np.zeros(mask.shape, bool)

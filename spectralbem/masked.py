@@ -136,10 +136,11 @@ def fused_cg(system: PackedSystem, r0: np.ndarray, rtol: float, maxiter: int):
     return x, used, rel
 
 
-#: rows of each block of the fused GMRES basis (products against it are BLAS 2 per block);
-#: the band solves of an adhesive state converge in 15-25 products, so a block of 8 leaves
-#: at most 7 unused rows allocated (a first block of 33 held 8-18 vectors too many)
-BASIS_BLOCK = 8
+#: rows of each block of the fused GMRES basis (products against it are BLAS 2 per block):
+#: at most 3 unused rows allocated; the band solves of an adhesive state converge in 15-25
+#: products, and with blocks of 8 the peak of the rough SLS state at 256² held 0.85 N²
+#: arrays more (a first block of 33 held 8-18 vectors too many)
+BASIS_BLOCK = 4
 
 
 class _Basis:
@@ -196,21 +197,24 @@ def _grown(H: np.ndarray, m: int) -> np.ndarray:
     return G
 
 
-def fused_gmres(system: PackedSystem, r0: np.ndarray, rtol: float, maxiter: int):
+def fused_gmres(system: PackedSystem, r0: np.ndarray, rtol: float, maxiter: int,
+                restart: int | None = None):
     """Right-preconditioned restarted GMRES for the correction x of ``A M x' = r0``, x = M x'.
 
     Solves to ‖r0 − A x‖ ≤ rtol·‖r0‖ (the Arnoldi estimate, exact in exact arithmetic) within
     ``maxiter`` operator applications.  Classical Gram–Schmidt, re-orthogonalised once where
     the first pass cancels more than 1 − 1/√2 of the vector (the criterion of Daniel, Gragg,
-    Kaufman and Stewart): matrix-vector products against the basis, BLAS 2.  Returns (x,
-    applications, estimated relative residual).
+    Kaufman and Stewart): matrix-vector products against the basis, BLAS 2.  ``restart``:
+    the restart length (None: ``RESTART_MAX`` as far as the basis fits in ``RESTART_BYTES``,
+    at least 10).  Returns (x, applications, estimated relative residual).
     """
     n = r0.size
     beta0 = float(np.linalg.norm(r0))
     x = np.zeros(n)
     if beta0 == 0.0 or n == 0:
         return x, 0, 0.0
-    m = int(max(10, min(RESTART_MAX, RESTART_BYTES // (8 * n) - 1)))
+    m = int(max(10, min(RESTART_MAX, RESTART_BYTES // (8 * n) - 1)) if restart is None
+            else max(1, restart))
     V = _Basis(n, m)  # grown as the iteration needs it
     H = np.zeros((min(m, 2 * BASIS_BLOCK) + 1, min(m, 2 * BASIS_BLOCK)))  # grown likewise
     cs, sn = np.zeros(m), np.zeros(m)
@@ -358,15 +362,18 @@ RESTART_BYTES = 200 * 2**20
 FULL_GMRES_SIZE = 500
 
 
-def _fused(op, mask, b, x, bnorm, rtol, maxiter, transpose, counter):
+def _fused(op, mask, b, x, bnorm, rtol, maxiter, transpose, counter, restart=None):
     """The fused preconditioned solve (CG on a symmetric operator, else right-preconditioned
-    GMRES) from the packed start ``x``: (x, true relative residual, message); its products
-    (two FFT pairs each, plus the residual's pairs) are added to ``counter.matvecs``."""
+    GMRES, restarted after ``restart`` products when given) from the packed start ``x``:
+    (x, true relative residual, message); its products (two FFT pairs each, plus the
+    residual's pairs) are added to ``counter.matvecs``."""
     system = PackedSystem(op, mask, transpose=transpose, idx=counter.idx)
     r0 = b - system.operator(x)
     rr = float(np.linalg.norm(r0)) / bnorm
-    krylov = fused_cg if op.symmetric else fused_gmres
-    dx, used, _rel = krylov(system, r0, rtol / max(rr, 1e-300), maxiter)
+    if op.symmetric:
+        dx, used, _rel = fused_cg(system, r0, rtol / max(rr, 1e-300), maxiter)
+    else:
+        dx, used, _rel = fused_gmres(system, r0, rtol / max(rr, 1e-300), maxiter, restart)
     x = x + dx
     residual = float(np.linalg.norm(b - system.operator(x))) / bnorm
     counter.matvecs += used + 1
@@ -394,13 +401,14 @@ def solve_masked(op: SpectralOperator, mask: np.ndarray, rhs: np.ndarray, *, x0=
         :class:`MaskedSystem`) or 'fused'.
     precondition : Fourier preconditioner; default on for non-symmetric systems.
     transpose : solve with Cᵀ (adjoint solve).
-    restart : scipy's GMRES restart length; default ``RESTART_MAX`` (300) as far as its
-        Krylov basis fits in ``RESTART_BYTES`` (200 MB), at least 60 (the fused GMRES uses
-        the same cap).  Measured on the rough 256² mask at β = 1e4, ζ = 10: GMRES(60) needs
-        5894 products, GMRES(300) 1370 (the guard is 2065).  A full basis can exceed the
-        adhesive solve's memory budget of 25 N² arrays on mid-size grids (a 26k-cell mask at
-        512²: 63 MB, 30 arrays); only stagnating solves grow it that far (typical rough
-        solves hold 20-60 vectors), which is why the cap is in bytes.
+    restart : the GMRES restart length of the fused solve and of scipy's; default
+        ``RESTART_MAX`` (300) as far as its Krylov basis fits in ``RESTART_BYTES`` (200 MB),
+        at least 60 for scipy's and 10 for the fused one.  Measured on the rough 256² mask
+        at β = 1e4, ζ = 10: GMRES(60) needs 5894 products, GMRES(300) 1370 (the guard is
+        2065).  A full basis can exceed the adhesive solve's memory budget of 25 N² arrays
+        on mid-size grids (a 26k-cell mask at 512²: 63 MB, 30 arrays); only stagnating
+        solves grow it that far (typical rough solves hold 20-60 vectors), which is why the
+        cap is in bytes.
     """
     sys_ = MaskedSystem(op, mask, transpose=transpose)
     n = sys_.n
@@ -420,6 +428,7 @@ def solve_masked(op: SpectralOperator, mask: np.ndarray, rhs: np.ndarray, *, x0=
         pos = np.minimum(np.searchsorted(sys_.idx, cells), max(n - 1, 0))
         on = sys_.idx[pos] == cells
         x[pos[on]] += values[on]
+        del cells, values, pos, on, x0_add  # not held through the solve
     if not np.all(np.isfinite(x)):
         x = np.zeros(n)
     if maxiter is None:
@@ -434,7 +443,8 @@ def solve_masked(op: SpectralOperator, mask: np.ndarray, rhs: np.ndarray, *, x0=
         raise ValueError(
             f"method = {method!r}; allowed: 'auto', 'cg', 'bicgstab', 'gmres', 'fused'")
     if method == "fused":
-        x, residual, message = _fused(op, mask, b, x, bnorm, rtol, maxiter, transpose, sys_)
+        x, residual, message = _fused(op, mask, b, x, bnorm, rtol, maxiter, transpose, sys_,
+                                      restart)
         if residual <= TRUE_RESIDUAL_MARGIN * rtol or sys_.matvecs >= maxiter:
             converged = residual <= TRUE_RESIDUAL_MARGIN * rtol
             if not converged:

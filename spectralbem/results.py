@@ -15,6 +15,7 @@ import numpy as np
 
 from .io import FIELDS, SCALARS, STATUS
 from .io import attrs as _attrs
+from .observables import ProfileSlope, field_of
 
 __all__ = ["grid_dataset", "seed_dataset", "seed_front_outputs", "edges_y_invariant",
            "quotient", "friction_observables", "front_friction", "profile_friction"]
@@ -30,17 +31,16 @@ def quotient(num: float, den: float, num_scale: float = 0.0, den_scale: float = 
 
 
 def friction_observables(op, heights) -> dict:
-    """The fields f whose sums Σ p f an adhesive solve records for each band state
-    (``observables`` of adhesive.solve_adhesive): the unit field (``load``, the scalar 1)
-    and the rigid profile's slopes −v̂·∇h (``force``) and −v̂⊥·∇h (``lateral``),
-    v̂⊥ = ẑ × v̂."""
+    """The observables whose sums Σ p f an adhesive solve records for each band state
+    (``observables`` of adhesive.solve_adhesive, :mod:`spectralbem.observables`): the unit
+    field (``load``, the scalar 1) and the rigid profile's slopes −v̂·∇h (``force``) and
+    −v̂⊥·∇h (``lateral``), v̂⊥ = ẑ × v̂, formed when a sum needs them."""
     from .contact import sliding_direction
 
-    cell = op.cell
     vhat = sliding_direction(op)
     vperp = (-vhat[1], vhat[0])
-    return {"load": 1.0, "force": -cell.derivative(heights, vhat),
-            "lateral": -cell.derivative(heights, vperp)}
+    return {"load": 1.0, "force": ProfileSlope(op.cell, heights, vhat),
+            "lateral": ProfileSlope(op.cell, heights, vperp)}
 
 
 def front_friction(r, obs: dict) -> dict:
@@ -53,18 +53,26 @@ def front_friction(r, obs: dict) -> dict:
     from . import front
 
     p = r.pressure
-    at_front = front.at_front(r.tests, r.offset_out,
-                              {k: float(np.sum(p * f)) for k, f in obs.items()}, r.a0)
-    return _friction_quotients(p, obs, at_front)
+    sums, scale = _sums(p, obs)
+    at_front = front.at_front(r.tests, r.offset_out, sums, r.a0)
+    return _friction_quotients(at_front, scale)
 
 
 def profile_friction(p, obs: dict) -> dict:
     """:func:`front_friction` of the pressure ``p`` on its own mask (no front to move)."""
-    return _friction_quotients(p, obs, {k: float(np.sum(p * f)) for k, f in obs.items()})
+    return _friction_quotients(*_sums(p, obs))
 
 
-def _friction_quotients(p, obs, sums) -> dict:
-    scale = {k: float(np.sum(np.abs(p * f))) for k, f in obs.items()}
+def _sums(p, obs):
+    """Σ p f and Σ |p f| of each observable (each field formed once)."""
+    sums, scale = {}, {}
+    for k, f in obs.items():
+        pf = p * field_of(f)
+        sums[k], scale[k] = float(np.sum(pf)), float(np.sum(np.abs(pf)))
+    return sums, scale
+
+
+def _friction_quotients(sums, scale) -> dict:
     return {k: quotient(sums[k], sums["load"], scale[k], scale["load"])
             for k in ("force", "lateral")}
 

@@ -517,3 +517,27 @@ def test_viscoelastic_adhesive_friction_is_the_profile_force_at_the_front():
     mu1 = one.mu.item()
     assert grid.mu.item() == pytest.approx(mu1, rel=0.01)
     assert abs(grid.mu_dissipation.item() / mu1 - 1) > 3 * abs(grid.mu.item() / mu1 - 1)
+
+
+def test_the_average_along_the_front_in_place_equals_the_fresh_one():
+    """smooth_along_front(..., out=F) (the front tests average F and the band widths over
+    one array: no N² copy) writes the same values on the front cells as the fresh result,
+    nan where there is no average, and leaves every other cell as it was."""
+    from spectralbem import criterion as cr
+
+    n = 96
+    X, Y = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    mask = (np.hypot(X - 40, Y - 48) < 25) | (np.hypot(X - 78, Y - 48) < 8)
+    b = cr.bands(mask, 1.0, 1.0, 2.0)
+    rng = np.random.default_rng(1)
+    F = rng.random(mask.shape)
+    F[b.inner_front & (X > 60)] = np.nan  # front cells without a value
+    W = rng.random(mask.shape) + 0.5
+    s_out, s_in = cr.patch_sigmas(mask, b.outer_front, b.inner_front, 3.0, 0.23)
+    for front, sig in ((b.outer_front, s_out), (b.inner_front, s_in), (b.inner_front, 2.5)):
+        fresh = cr.smooth_along_front(F, front, sig, W, b.normal)
+        inplace = F.copy()
+        cr.smooth_along_front(inplace, front, sig, W, b.normal, out=inplace)
+        assert np.array_equal(inplace[front], fresh[front], equal_nan=True)
+        assert np.array_equal(inplace[~front], F[~front], equal_nan=True)
+        assert np.isfinite(fresh[front]).sum() > 0.5 * front.sum()

@@ -319,3 +319,38 @@ def test_viscoelastic_diagonal_front_against_the_1d_method():
     assert np.pi * fo["area_fraction"] == pytest.approx(float(ref["a_tilde"]), rel=0.01)
     assert fo["G1"] / dg == pytest.approx(float(ref["G1_over_dgamma"]), rel=0.05)
     assert fo["G2"] / dg == pytest.approx(float(ref["G2_over_dgamma"]), rel=0.05)
+
+
+def test_the_adjoint_split_restarts_short_and_falls_back_when_that_stalls(monkeypatch):
+    """adjoint_weights solves at a short restart (adjoint.ADJOINT_RESTART, so that its basis
+    does not come on top of the final state's fields) and, past its guard, goes on with the
+    full basis from where it stopped: ψ is the same to the tolerance either way."""
+    from spectralbem import adjoint, masked
+    from spectralbem.materials import StandardLinearSolid
+    from spectralbem.spectral import Cell, SpectralOperator
+    from spectralbem.surfaces import self_affine
+
+    cell = Cell(1.0, 1.0, 64, 64)
+    h = self_affine(cell, 0.8, rolloff=2 * np.pi * 4, cutoff=2 * np.pi * 16, rms_height=1.0,
+                    seed=3)
+    mask = h > np.quantile(h, 0.8)
+    op = SpectralOperator(cell, StandardLinearSolid(1.0, 100.0, 1.0, 0.5), velocity=(0.05, 0.0))
+    p = masked.solve_masked(op, mask, h, rtol=1e-12).field
+    calls = []
+    real = adjoint.solve_masked
+    monkeypatch.setattr(adjoint, "solve_masked",
+                        lambda *a, **k: calls.append(k.get("restart")) or real(*a, **k))
+    monkeypatch.setattr(adjoint, "ADJOINT_RESTART", 300)
+    ref = adjoint.adjoint_weights(op, mask, p, 1e-12)
+    monkeypatch.setattr(adjoint, "ADJOINT_RESTART", 8)
+    calls.clear()
+    short = adjoint.adjoint_weights(op, mask, p, 1e-12)
+    assert calls == [8]  # converged within the guard at the short restart
+    monkeypatch.setattr(adjoint, "ADJOINT_RESTART_GUARD", 3)
+    calls.clear()
+    fallback = adjoint.adjoint_weights(op, mask, p, 1e-12)
+    assert calls == [8, None]  # stalled at the guard: the full basis went on
+    # ψ weighs the cells a closure adds (off A; on A it vanishes by construction)
+    scale = np.linalg.norm(ref[~mask])
+    for psi in (short, fallback):
+        assert np.linalg.norm((psi - ref)[~mask]) <= 1e-9 * scale

@@ -178,7 +178,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "of μ_a: it needs G1, G2 converged on the curved fronts, which needs the "
              "band of the front tests a0 wide at every orientation (docs/theory.md). "
              "On this rough surface it is not converged at 1024² (4 cells per vτ): the "
-             "path of the default kernel moves μ_a by 17-21 % from 512² to 1024² while its "
+             "path of the default kernel moves μ_a by 9-21 % from 512² to 1024² while its "
              "area, μ, G1 and G2 move by 0.2-2 % (G1 − Δγ by 12 %), so the 256²/512² "
              "agreement of μ_a on loading (2 %) is a coincidence of a quantity still "
              "drifting, and 2048² is needed to bound it. "

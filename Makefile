@@ -38,6 +38,7 @@ bench: $(STAMP)
 	$(BIN)/python bench/viscoelastic.py --starts
 	$(BIN)/python bench/viscoelastic.py --robustness
 	$(BIN)/python bench/viscoelastic.py --adhesive
+	$(BIN)/python bench/viscoelastic.py --large
 	$(BIN)/python bench/scaling.py
 	$(BIN)/python bench/sphere.py 512 default 6
 	$(BIN)/python bench/sphere_release_rates.py --delayed-kernel cell sampled

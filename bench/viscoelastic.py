@@ -35,8 +35,13 @@ adhesiveless solve of the same scene (adhesion removed), at 128², 256², 512² 
 docs/figures/solve_cost.png: CPU seconds and peak memory against N² for the elastic PK, the
 viscoelastic adhesiveless and the adhesive solves (``--figure`` redraws it from the JSON).
 
+``--large``: the SLS adhesive state of the same case at 1024² and 2048² with ``--threads``
+FFT threads (default 2, the machine's cores), in wall seconds, against its adhesiveless
+solve timed alike (section ``adhesive_large``, bench/viscoelastic_large.json).
+
 Usage: python bench/viscoelastic.py [--sizes 256 512 1024 2048] [--runs 3]
        python bench/viscoelastic.py --robustness | --starts | --adhesive [--sizes 128 256 512]
+       python bench/viscoelastic.py --large [--sizes 1024 2048] [--threads 2]
        python bench/viscoelastic.py --figure
 """
 
@@ -340,6 +345,57 @@ def adhesive_rows(sizes):
     return rows
 
 
+def large_rows(sizes, threads, out: Path):
+    """The viscoelastic adhesive loading state of cases/rough_convergence.toml (1e4 Pa) at
+    the large grids with ``threads`` FFT threads, wall seconds, against its adhesiveless
+    solve timed alike (the targets: 1024² in 2 min, 2048² in 15 min on 2 cores).  Each
+    finished size is written to ``out`` at once."""
+    from spectralbem.scenes import load_scene, read_scene_file, solve
+
+    case = ROOT / "cases" / "rough_convergence.toml"
+    rows = []
+    for n in sizes:
+        raw = read_scene_file(case)
+        raw["control"] = {"mean_pressure": 1e4}
+        free = {k: v for k, v in raw.items() if k != "adhesion"}
+        ov = {"grid.Nx": n, "grid.Ny": n, "solver.threads": threads}
+        solve(load_scene(free, overrides=ov, base_dir=case.parent))  # plans, compiles
+        times = {}
+        for name, r in (("adhesiveless", free), ("adhesive", raw)):
+            scene = load_scene(r, overrides=ov, base_dir=case.parent)
+            w, c = time.perf_counter(), time.process_time()
+            ds = solve(scene)
+            times[name] = (time.perf_counter() - w, time.process_time() - c, ds)
+        ds = times["adhesive"][2]
+        row = dict(N=n, threads=threads, adhesive_wall=times["adhesive"][0],
+                   adhesive_cpu=times["adhesive"][1],
+                   adhesiveless_wall=times["adhesiveless"][0],
+                   ratio=times["adhesive"][0] / times["adhesiveless"][0],
+                   status=str(ds["status"].values), outer=int(ds["iterations"]),
+                   area=float(ds["area_fraction"]), mu=float(ds["mu"]),
+                   mu_adhesive=float(ds["mu_adhesive"]))
+        rows.append(row)
+        out.write_text(json.dumps(rows, indent=1))
+        print(json.dumps(row), flush=True)
+    return rows
+
+
+def large_markdown(rows) -> str:
+    lines = ["| N² | FFT threads | adhesive state (wall s) | its CPU s | adhesiveless (wall s) "
+             "| ratio | status | front iterations | area | μ | μ_a | target |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    target = {1024: 120.0, 2048: 900.0}
+    for r in rows:
+        t = target.get(r["N"])
+        verdict = ("—" if t is None else
+                   f"{t / 60:.0f} min: {'met' if r['adhesive_wall'] <= t else '**not met**'}")
+        lines.append(f"| {r['N']}² | {r['threads']} | {r['adhesive_wall']:.0f} | "
+                     f"{r['adhesive_cpu']:.0f} | {r['adhesiveless_wall']:.2f} | "
+                     f"**{r['ratio']:.0f}×** | {r['status']} | {r['outer']} | {r['area']:.4f} | "
+                     f"{r['mu']:.5f} | {r['mu_adhesive']:.3g} | {verdict} |")
+    return "\n".join(lines)
+
+
 def adhesive_markdown(rows) -> str:
     lines = ["| N² | material | adhesive state (s) | adhesiveless (s) | ratio | status | "
              "front iterations | area (adhesive / adhesiveless) | with coarse start (s) | "
@@ -418,6 +474,10 @@ def main(argv=None):
     ap.add_argument("--robustness", action="store_true")
     ap.add_argument("--starts", action="store_true")
     ap.add_argument("--adhesive", action="store_true")
+    ap.add_argument("--large", action="store_true",
+                    help="the viscoelastic adhesive state at 1024² and 2048² (or --sizes) "
+                         "with --threads FFT threads, wall seconds")
+    ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--figure", action="store_true",
                     help="only redraw docs/figures/solve_cost.png from the JSON files")
     a = ap.parse_args(argv)
@@ -440,6 +500,13 @@ def main(argv=None):
                       "` (CPU seconds, one thread):\n\n" + adhesive_markdown(rows))
         table = json.loads(Path(a.out).read_text()) if Path(a.out).exists() else []
         cost_figure(rows, table)
+        return
+    if a.large:
+        sizes = a.sizes if a.sizes != ap.get_default("sizes") else [1024, 2048]
+        rows = large_rows(sizes, a.threads, ROOT / "bench" / "viscoelastic_large.json")
+        write_section("adhesive_large", stamp + f"--large --sizes {' '.join(map(str, sizes))}"
+                      f" --threads {a.threads}` (wall seconds, {a.threads} FFT threads, "
+                      f"{os.cpu_count()} cores):\n\n" + large_markdown(rows))
         return
     if a.starts:
         rows = starts()

@@ -37,6 +37,7 @@ from .criterion import (
     loose_band_rtol,
     predictor_tests,
 )
+from .fft import with_fft_threads_only
 from .front import (
     at_front,
     balance_residual,
@@ -117,6 +118,7 @@ def _check_inputs(cell, penetration, mean_pressure, dgamma, a0, criterion, front
     return dg
 
 
+@with_fft_threads_only
 def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float, *,
                    penetration: float | None = None, mean_pressure: float | None = None,
                    mask0: np.ndarray | None = None, max_outer: int = 500,

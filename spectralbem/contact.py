@@ -28,6 +28,7 @@ import math
 import numpy as np
 
 from .conventions import control
+from .fft import with_fft_threads_only
 from .masked import solve_masked
 from .spectral import SpectralOperator
 from .state import ContactState, Solution, status_of
@@ -520,6 +521,7 @@ def active_set(op: SpectralOperator, heights, *, mean_pressure=None, penetration
     return Solution(p, u, delta, mask, iterations, converged, message, outer)
 
 
+@with_fft_threads_only
 def solve_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetration=None,
                   tol: float = 1e-10, maxiter: int = 10000, p0=None,
                   mask0=None, method: str = "auto", progress=None) -> ContactState:

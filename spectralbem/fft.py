@@ -17,6 +17,8 @@ deterministic (bit-identical results across processes and runs, slightly slower 
 
 from __future__ import annotations
 
+import contextlib
+import functools
 import os
 import threading
 
@@ -65,6 +67,66 @@ def get_threads() -> int:
     return _THREADS
 
 
+def allow_openmp_threads(threads: int) -> None:
+    """Let FFTW run plans of ``threads`` threads from the calling thread.
+
+    pyFFTW's wheels link FFTW's OpenMP build, whose parallel loops take their team size from
+    the OpenMP runtime, not from the plan: where ``OMP_NUM_THREADS=1`` (set by job schedulers,
+    dask workers and this package's benches to keep BLAS on one thread) a plan of 2 threads
+    runs on one.  This raises, never lowers, the calling thread's OpenMP thread count of the
+    runtime pyFFTW loaded (its bundled libgomp; where it has none, every OpenMP runtime of the
+    process) to ``threads``.  Called before each pyFFTW plan of more than one thread is made
+    (plans are per calling thread), so that FFTW_MEASURE times the threaded algorithms.
+    """
+    if threads <= 1 or not _HAVE_PYFFTW:
+        return
+    from threadpoolctl import ThreadpoolController
+
+    libs = [c for c in ThreadpoolController().lib_controllers if c.user_api == "openmp"]
+    home = os.path.dirname(os.path.dirname(os.path.abspath(pyfftw.__file__)))
+    own = [c for c in libs if os.path.abspath(c.filepath).startswith(
+        os.path.join(home, "pyfftw"))]  # pyfftw/ or the wheel's pyfftw.libs/
+    for c in own or libs:
+        if c.num_threads < threads:
+            c.set_num_threads(threads)
+
+
+_BLAS = None  # threadpoolctl's controller of the process's BLAS libraries, made on first use
+
+
+@contextlib.contextmanager
+def fft_threads_only(threads: int | None):
+    """BLAS on one thread while FFTW runs ``threads`` > 1 (a no-op otherwise).
+
+    The solvers' BLAS calls are small products (the Gram–Schmidt passes of the Krylov
+    solves, a few rows against one vector) between transforms.  With two FFTW threads and a
+    multi-threaded BLAS both thread pools spin for the cores between calls: the rough SLS
+    adhesive state of docs/rough_convergence.md at 512² took 91 s instead of 22 s
+    (2 cores; docs/performance.md).  With one FFT thread the BLAS threads cost nothing
+    measurable (25.8 against 25.6 s), so only threaded solves limit them.
+    """
+    threads = _THREADS if threads is None else int(threads)
+    if threads <= 1 or not _HAVE_PYFFTW:
+        yield
+        return
+    global _BLAS
+    if _BLAS is None:
+        from threadpoolctl import ThreadpoolController
+
+        _BLAS = ThreadpoolController().select(user_api="blas")
+    with _BLAS.limit(limits=1):
+        yield
+
+
+def with_fft_threads_only(solver):
+    """Decorator: run ``solver(op, ...)`` under :func:`fft_threads_only` of ``op.threads``."""
+    @functools.wraps(solver)
+    def run(op, *args, **kwargs):
+        with fft_threads_only(getattr(op, "threads", None)):
+            return solver(op, *args, **kwargs)
+    return run
+
+
 class RealFFT2:
     """Forward r2c / unnormalised inverse c2r pair for one real shape.
 
@@ -78,6 +140,7 @@ class RealFFT2:
         self.threads = threads
         self.use_fftw = use_fftw
         if use_fftw:
+            allow_openmp_threads(threads)
             self._rin = pyfftw.zeros_aligned(self.shape, dtype="float64")
             self._cout = pyfftw.empty_aligned(self.hshape, dtype="complex128")
             self._cin = pyfftw.empty_aligned(self.hshape, dtype="complex128")

@@ -148,7 +148,8 @@ SECTIONS = {
                              default=10000),
         "max_outer": _k("integer", "iteration guard of the adhesive front iteration", "", 1,
                         10**5, default=500),
-        "threads": _k("integer", "FFT threads", "", 1, 256, default=1),
+        "threads": _k("integer", "FFT threads (FFTW; a solve with more than one runs BLAS on "
+                      "one thread: docs/performance.md, threads)", "", 1, 256, default=1),
         "front_smoothing": _k("number", "σ of the Gaussian average of the energy balance "
                               "along the front, in units of adhesion.a0 (adhesive scenes; "
                               "default 1.5 in viscoelastic scenes, 0.5 in elastic ones)",

@@ -3,10 +3,15 @@
 compiled one's answers; a backend registered in one place is used end to end; a kernel may
 be a block per mode."""
 
+import json
+import os
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
-from spectralbem import backend
+from spectralbem import backend, fft
 from spectralbem.adhesive import solve_adhesive
 from spectralbem.contact import solve_contact
 from spectralbem.materials import Elastic, StandardLinearSolid
@@ -96,3 +101,84 @@ def test_block_kernel_per_mode():
 def test_unknown_backend_is_refused():
     with pytest.raises(ValueError, match="backend = 'gpu'; allowed: cpu, numpy"):
         SpectralOperator(CELL, Elastic(1.0, 0.3), backend="gpu")
+
+
+
+_THREADS_PROBE = """
+import json
+import numpy as np
+from spectralbem import fft
+from threadpoolctl import ThreadpoolController
+
+def os_threads():
+    with open("/proc/self/status") as f:
+        return int(next(line.split()[1] for line in f if line.startswith("Threads:")))
+
+def omp():
+    return {c.filepath: c.num_threads for c in ThreadpoolController().lib_controllers}
+
+x = np.random.default_rng(0).random((512, 512))
+out = dict(before=os_threads(), libs=omp())
+one = fft.plan((512, 512), 1).forward(x).copy()
+out["after_one"] = os_threads()
+two = fft.plan((512, 512), 2).forward(x).copy()
+out.update(after_two=os_threads(), libs_now=omp(),
+           diff=float(np.abs(two - one).max() / np.abs(one).max()))
+print(json.dumps(out))
+"""
+
+
+@pytest.mark.skipif(fft.backend() != "pyfftw" or not sys.platform.startswith("linux"),
+                    reason="pyFFTW's OpenMP build, threads counted in /proc")
+def test_an_fft_plan_of_two_threads_runs_two_where_openmp_is_capped_at_one():
+    """With OMP_NUM_THREADS=1 (as a dask worker or a bench sets it) a 2-thread FFTW plan
+    used to run on one thread: FFTW's OpenMP loops take the runtime's team size.  Now the
+    plan raises pyFFTW's OpenMP runtime (only it) to 2 and the transform starts a second OS
+    thread; a 1-thread plan starts none; the answers agree to round-off."""
+    # FFTW_ESTIMATE: the plan (threaded or not) chosen without timing, the same everywhere
+    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1",
+               SPECTRALBEM_FFTW_PLANNER="estimate")
+    run = subprocess.run([sys.executable, "-c", _THREADS_PROBE], env=env, check=True,
+                         capture_output=True, text=True)
+    r = json.loads(run.stdout)
+    assert r["after_one"] == r["before"]
+    assert r["after_two"] > r["after_one"]
+    assert r["diff"] < 1e-13
+    assert any("pyfftw" in path for path in r["libs"])
+    for path, n in r["libs_now"].items():
+        if "pyfftw" in path:
+            assert (r["libs"][path], n) == (1, 2)
+        else:  # BLAS and any other runtime keep the environment's limit
+            assert n == r["libs"][path]
+
+
+def test_a_threaded_solve_holds_blas_to_one_thread_and_gives_the_same_state():
+    """Two FFTW threads and a multi-threaded BLAS fight for the cores (the Krylov solves'
+    small BLAS products between transforms: 4× slower at 512², docs/performance.md), so a
+    solve whose operator has more than one FFT thread runs BLAS on one; one FFT thread leaves
+    BLAS as it was.  The threaded solve reaches the single-threaded state: the same contact
+    set, pressures within 1e-9 of the peak (both solved to the default 1e-10; only the
+    transforms' rounding differs)."""
+    from threadpoolctl import threadpool_info
+
+    seen = []
+
+    def blas_threads():
+        return [lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"]
+
+    before = blas_threads()
+    with fft.fft_threads_only(2):
+        seen.append(blas_threads())
+    with fft.fft_threads_only(1):
+        seen.append(blas_threads())
+    assert blas_threads() == before
+    assert all(n == 1 for n in seen[0])
+    assert seen[1] == before
+    cell = Cell(1.0, 1.0, 32, 32)
+    h = paraboloid(cell, 2.0)
+    states = [solve_adhesive(SpectralOperator(cell, SLS, velocity=(0.1, 0.0), threads=t),
+                             h, 0.002, 2 * cell.hx, mean_pressure=0.001) for t in (1, 2)]
+    assert states[0].status == states[1].status == "partial", states[0].message
+    np.testing.assert_array_equal(states[0].contact, states[1].contact)
+    np.testing.assert_allclose(states[1].pressure, states[0].pressure, rtol=0,
+                               atol=1e-9 * np.abs(states[0].pressure).max())

@@ -373,7 +373,8 @@ def large_rows(sizes, threads, out: Path):
                    ratio=times["adhesive"][0] / times["adhesiveless"][0],
                    status=str(ds["status"].values), outer=int(ds["iterations"]),
                    area=float(ds["area_fraction"]), mu=float(ds["mu"]),
-                   mu_adhesive=float(ds["mu_adhesive"]))
+                   mu_adhesive=float(ds["mu_adhesive"]), G1=float(ds["G1"]),
+                   G2=float(ds["G2"]))
         rows.append(row)
         out.write_text(json.dumps(rows, indent=1))
         print(json.dumps(row), flush=True)

@@ -155,6 +155,13 @@ def sparse_max(n_cells: int) -> int:
 #: a half-space at 2048²: 1.4e3; a layer under pressure of thickness 0.01 L at 256²: 4.4e6)
 SPAN_SLOW = 1e5
 
+#: a PK gradient whose RMS over the contact set lies below this fraction of the height range
+#: is round-off: the conjugate direction built on it carries no information and the next
+#: direction restarts (β = 0).  A contact set solved exactly (one cell under penetration
+#: control: G ≈ 1e-35) that cells then join gave β = G/G_old ≈ 1e26, a direction of 3e8 on
+#: that cell and a step of 3e-25: PK stalled for its 10 000 iterations (tests/test_contact.py)
+GRADIENT_ROUNDOFF = 64 * float(np.finfo(float).eps)
+
 #: contact fraction at which polonsky_keer checks for full contact (once)
 FULL_CHECK = 0.9
 
@@ -190,7 +197,8 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     directions (β = 0) whenever cells join the contact (``restart="join"``); here β = G/G_old
     is kept across every change of the contact set and the direction is restarted only when
     it would not be a descent direction (⟨g, t⟩ ≤ 0, so the step length τ is always
-    positive).  Same solutions, fewer iterations: `python bench/pk_restart.py`, table in
+    positive) or was built on a gradient of round-off size (:data:`GRADIENT_ROUNDOFF`).
+    Same solutions, fewer iterations: `python bench/pk_restart.py`, table in
     docs/performance.md.
 
     The error is the complementarity ``Σ p|g| / (Σ p · (max h - min h))`` on the contact;
@@ -282,6 +290,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     tc = np.zeros(idx.size)
     gc = np.empty(idx.size)
     G_old = 0.0  # the first direction is the gradient (β = 0)
+    G_floor = 0.0  # G_old at or below it is round-off (GRADIENT_ROUNDOFF): β = 0
     c_self = None  # ⟨C δ, δ⟩, the self-compliance of a cell (a Jacobi step; computed once)
     err = np.inf
     gbar = 0.0
@@ -323,15 +332,17 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             break
         forwards += 1
         # Fletcher–Reeves β = G/G_old, kept across changes of the contact set; restarted (β = 0)
-        # only when t would not be a descent direction: ⟨g, g + βt⟩ = G + β⟨g, t⟩ ≤ 0 (g is
-        # mean-free under load control, so t's mean removal leaves the product unchanged)
-        beta = G / G_old if G_old > 0 else 0.0
+        # when the last gradient was round-off (G_floor) or t would not be a descent
+        # direction: ⟨g, g + βt⟩ = G + β⟨g, t⟩ ≤ 0 (g is mean-free under load control, so t's
+        # mean removal leaves the product unchanged)
+        beta = G / G_old if G_old > G_floor else 0.0
         if not G + beta * g_t > 0:
             beta = 0.0
         if refill:  # the FFT input rewritten whole (see REFILL_BYTES)
             rin.fill(0.0)
         gc_tc = loops.direction(gc, tc, beta, t_mean, rin, idx)
         G_old = G
+        G_floor = (GRADIENT_ROUNDOFF * hrange) ** 2 * idx.size
         T = pl.forward_buffer()  # the plan's output buffer
         denom = loops.parseval_sum(T, kn, mult)  # ⟨C t, t⟩ by Parseval
         if denom > 0:

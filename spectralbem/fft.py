@@ -101,7 +101,7 @@ def fft_threads_only(threads: int | None):
     The solvers' BLAS calls are small products (the Gram–Schmidt passes of the Krylov
     solves, a few rows against one vector) between transforms.  With two FFTW threads and a
     multi-threaded BLAS both thread pools spin for the cores between calls: the rough SLS
-    adhesive state of docs/rough_convergence.md at 512² took 91 s instead of 22 s
+    adhesive state of docs/rough_convergence.md at 512² took 91 s instead of 23 s
     (2 cores; docs/performance.md).  With one FFT thread the BLAS threads cost nothing
     measurable (25.8 against 25.6 s), so only threaded solves limit them.
     """

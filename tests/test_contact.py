@@ -3,7 +3,7 @@ exact reductions (elastic limits, mirror symmetry, oblique sliding)."""
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import nnls
 
@@ -290,6 +290,9 @@ def _dense_compliance(op, n):
 @settings(max_examples=12, deadline=None)
 @given(seed=st.integers(0, 2**31), frac=st.floats(0.05, 0.95), d=st.floats(0.05, 2.0),
        nu=st.floats(0.0, 0.45), load=st.booleans())
+# a one-cell contact set solved to round-off, then joined by two cells: the descent rule's
+# β = G/G_old was ~1e26 and PK stalled (contact.GRADIENT_ROUNDOFF)
+@example(seed=362880, frac=0.09825175879641147, d=0.9476332988348445, nu=0.125, load=False)
 def test_pk_against_an_independent_lcp_solver(seed, frac, d, nu, load):
     """PK against scipy's NNLS on the same LCP, written as the strictly convex QP
     min ½pᵀCp − wᵀp, p ≥ 0 (a glued layer, ν < 0.5: C is positive definite) and solved as

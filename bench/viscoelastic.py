@@ -301,18 +301,29 @@ def starts_markdown(rows) -> str:
     return "\n".join(lines)
 
 
-def adhesive_rows(sizes):
-    from spectralbem.scenes import load_scene, read_scene_file, solve
+ROUGH_CASE = ROOT / "cases" / "rough_convergence.toml"
 
-    case = ROOT / "cases" / "rough_convergence.toml"
+
+def _rough_case(material: str):
+    """(adhesive, adhesiveless) raw scenes of cases/rough_convergence.toml loaded at 1e4 Pa,
+    with its SLS or an elastic slab of E0."""
+    from spectralbem.scenes import read_scene_file
+
+    raw = read_scene_file(ROUGH_CASE)
+    raw["control"] = {"mean_pressure": 1e4}
+    if material == "elastic":
+        raw["material"] = {"kind": "elastic", "E": 1e6, "nu": 0.5}
+    return raw, {k: v for k, v in raw.items() if k != "adhesion"}
+
+
+def adhesive_rows(sizes):
+    from spectralbem.scenes import load_scene, solve
+
+    case = ROUGH_CASE
     rows = []
     for n in sizes:
         for material in ("elastic", "sls"):
-            raw = read_scene_file(case)
-            raw["control"] = {"mean_pressure": 1e4}
-            if material == "elastic":
-                raw["material"] = {"kind": "elastic", "E": 1e6, "nu": 0.5}
-            free = {k: v for k, v in raw.items() if k != "adhesion"}
+            raw, free = _rough_case(material)
             ov = {"grid.Nx": n, "grid.Ny": n}
             times = {}
             solve(load_scene(free, overrides=ov, base_dir=case.parent))  # plans, compiles
@@ -350,14 +361,12 @@ def large_rows(sizes, threads, out: Path):
     the large grids with ``threads`` FFT threads, wall seconds, against its adhesiveless
     solve timed alike (the targets: 1024² in 2 min, 2048² in 15 min on 2 cores).  Each
     finished size is written to ``out`` at once."""
-    from spectralbem.scenes import load_scene, read_scene_file, solve
+    from spectralbem.scenes import load_scene, solve
 
-    case = ROOT / "cases" / "rough_convergence.toml"
+    case = ROUGH_CASE
     rows = []
     for n in sizes:
-        raw = read_scene_file(case)
-        raw["control"] = {"mean_pressure": 1e4}
-        free = {k: v for k, v in raw.items() if k != "adhesion"}
+        raw, free = _rough_case("sls")
         ov = {"grid.Nx": n, "grid.Ny": n, "solver.threads": threads}
         solve(load_scene(free, overrides=ov, base_dir=case.parent))  # plans, compiles
         times = {}

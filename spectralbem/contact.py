@@ -291,6 +291,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     gc = np.empty(idx.size)
     G_old = 0.0  # the first direction is the gradient (β = 0)
     G_floor = 0.0  # G_old at or below it is round-off (GRADIENT_ROUNDOFF): β = 0
+    roundoff_per_cell = (GRADIENT_ROUNDOFF * hrange) ** 2
     c_self = None  # ⟨C δ, δ⟩, the self-compliance of a cell (a Jacobi step; computed once)
     err = np.inf
     gbar = 0.0
@@ -342,7 +343,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             rin.fill(0.0)
         gc_tc = loops.direction(gc, tc, beta, t_mean, rin, idx)
         G_old = G
-        G_floor = (GRADIENT_ROUNDOFF * hrange) ** 2 * idx.size
+        G_floor = roundoff_per_cell * idx.size
         T = pl.forward_buffer()  # the plan's output buffer
         denom = loops.parseval_sum(T, kn, mult)  # ⟨C t, t⟩ by Parseval
         if denom > 0:

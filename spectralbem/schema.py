@@ -173,8 +173,9 @@ SECTIONS = {
                              default=DELAYED_DEFAULT),
         "coarse_start": _k("boolean", "adhesive scenes: start the front from the same scene "
                            "solved on the grid of half the cells per side (recursively; "
-                           "fewer front iterations in elastic scenes, see "
-                           "docs/performance.md)", default=False),
+                           "fewer front iterations in elastic scenes and in the rough "
+                           "viscoelastic state at 1024², see docs/performance.md)",
+                           default=False),
     },
     "output": {
         "fields": _k("boolean", "store the 2D fields (pressure, gap, ...) in the dataset",

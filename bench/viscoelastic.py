@@ -371,7 +371,7 @@ def large_rows(sizes, threads, out: Path, starts=("adhesiveless", "coarse")):
         raw, free = _rough_case("sls")
         ov = {"grid.Nx": n, "grid.Ny": n, "solver.threads": threads}
         solve(load_scene(free, overrides=ov, base_dir=case.parent))  # plans, compiles
-        w, c = time.perf_counter(), time.process_time()
+        w = time.perf_counter()
         solve(load_scene(free, overrides=ov, base_dir=case.parent))
         free_wall = time.perf_counter() - w
         for start in starts:

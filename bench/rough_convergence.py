@@ -183,7 +183,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "agreement of μ_a on loading (2 %) is a coincidence of a quantity still "
              "drifting; at 2048² (8 cells per vτ; the loading state alone, `python "
              "bench/viscoelastic.py --large`, docs/performance.md) μ_a reads 1.28e-4, 20 % "
-             "below 1024² (area −0.5 %, μ −0.7 %): it has not converged there either. "
+             "below 1024² (area −0.5 %, μ −0.75 %): it has not converged there either. "
              "The sls tables other than the three of the default kernel (the path, the "
              "loading state and the path at front_tol = 0.2 cells, whose unloading state "
              "agrees between 256² and 512² in area because its 256² state is the outlier of "

@@ -401,8 +401,8 @@ def large_markdown(rows) -> str:
         t = target.get(r["N"])
         verdict = ("—" if t is None else
                    f"{t / 60:.0f} min: {'met' if r['adhesive_wall'] <= t else '**not met**'}")
-        dg = r.get("dgamma", 0.01)  # Δγ of cases/rough_convergence.toml
-        start = {"coarse": "coarse grid"}.get(r.get("start"), "adhesiveless")
+        dg = r["dgamma"]
+        start = {"coarse": "coarse grid"}.get(r["start"], r["start"])
         lines.append(f"| {r['N']}² | {r['threads']} | {start} | {r['adhesive_wall']:.0f} | "
                      f"{r['adhesive_cpu']:.0f} | {r['adhesiveless_wall']:.2f} | "
                      f"**{r['ratio']:.0f}×** | {r['status']} | {r['outer']} | {r['area']:.4f} | "

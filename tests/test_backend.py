@@ -103,7 +103,6 @@ def test_unknown_backend_is_refused():
         SpectralOperator(CELL, Elastic(1.0, 0.3), backend="gpu")
 
 
-
 _THREADS_PROBE = """
 import json
 import numpy as np

@@ -124,11 +124,12 @@ def _key(r: dict) -> tuple:
 
 def scan_one(n: int, a0_cells: float, sigma: float | None) -> dict:
     """The elastic loading state at 1e4 Pa at N² with a0 in cells and σ in units of a0 (a0
-    is numerical in an elastic scene): area fraction, status, balanced fraction, front
-    length, CPU s."""
+    is numerical in an elastic scene): area fraction (the balanced sub-cell front's), the
+    mask's fraction of cells in contact, status, balanced fraction, front length, CPU s."""
     ds, cpu = _solve(n, "elastic", a0_cells * 1e-3 / n, sigma, loads=[1e4])
     return dict(N=n, a0_cells=a0_cells, sigma=sigma, cpu=cpu,
-                area_fraction=float(ds["area_fraction"]), status=str(ds["status"].values),
+                area_fraction=float(ds["area_fraction"]),
+                mask_fraction=float(ds["contact"].mean()), status=str(ds["status"].values),
                 balanced_fraction=float(ds["balanced_fraction"]),
                 front_length=float(ds["front_length"]),
                 unresolved_patches=int(ds["unresolved_patches"]))
@@ -396,6 +397,16 @@ def _default_sigma(material: str) -> float:
     return default_smoothing(None, material != "elastic")
 
 
+def _mask_columns(r: dict) -> str:
+    """The mask's fraction and the mean offset of the balanced edge beyond the mask's edge
+    (µm: the area between them per front length on the cell of L = 1 mm); '— | —' for a row
+    measured before the scan recorded the mask."""
+    if "mask_fraction" not in r:
+        return "— | —"
+    beyond = (r["area_fraction"] - r["mask_fraction"]) * 1e-6 / r["front_length"]
+    return f"{r['mask_fraction']:.4f} | {beyond * 1e6:+.2f}"
+
+
 def lengths_report(scans: list) -> list:
     """The tables of the elastic loading state against a0 and σ at each N, and of a0 = one
     cell at every N with its Richardson estimate."""
@@ -404,9 +415,12 @@ def lengths_report(scans: list) -> list:
     lines = ["## Numerical lengths of the elastic state (loading, 1e4 Pa)", "",
              "`python bench/rough_convergence.py --scan`: a0 and the front smoothing σ "
              f"(default in an elastic scene: {_default_sigma('elastic'):g} a0; every row grows "
-             "σ to 0.23 of a large patch's radius).", "",
-             "| N | a0 (cells) | a0 (µm) | σ/a0 | σ (µm) | status | balanced | area | "
-             "front length (mm) | CPU s |", "|---|---|---|---|---|---|---|---|---|---|"]
+             "σ to 0.23 of a large patch's radius). area: the balanced sub-cell front's; "
+             "mask: the fraction of cells in contact; edge beyond the mask: their difference "
+             "per front length, the mean offset of the balanced edge from the mask's edge.", "",
+             "| N | a0 (cells) | a0 (µm) | σ/a0 | σ (µm) | status | balanced | area | mask | "
+             "edge beyond the mask (µm) | front length (mm) | CPU s |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in sorted(scans, key=lambda r: (r["N"], r["a0_cells"], -1 if r["sigma"] is None
                                           else r["sigma"])):
         a0 = r['a0_cells'] * 1e3 / r['N']
@@ -415,8 +429,8 @@ def lengths_report(scans: list) -> list:
                      f"{'default' if r['sigma'] is None else format(sig, 'g')} | "
                      f"{sig * a0:.3g} | "
                      f"{r['status']} | {r['balanced_fraction']:.3f} | "
-                     f"{r['area_fraction']:.4f} | {r['front_length'] * 1e3:.2f} | "
-                     f"{r['cpu']:.0f} |")
+                     f"{r['area_fraction']:.4f} | {_mask_columns(r)} | "
+                     f"{r['front_length'] * 1e3:.2f} | {r['cpu']:.0f} |")
     one = sorted((r for r in scans if r["a0_cells"] == 1 and r["sigma"] is None),
                  key=lambda r: r["N"])
     if len(one) >= 3:

@@ -195,6 +195,9 @@ def _coarse_start(op, h, dgamma, a0, penetration, mean_pressure, mask0, kw, prog
         penetration = penetration - (float(h.max()) - float(hc.max()))
     if progress is not None:
         progress(0, f"coarse start on {cop.cell.Nx}×{cop.cell.Ny}")
+    # the tolerance in cells, within what the coarse band allows (a0 spans half the cells)
+    kw = dict(kw, front_tol=min(kw["front_tol"],
+                                front_tol_max(a0 / min(cop.cell.hx, cop.cell.hy))))
     state = solve_adhesive(cop, hc, coarse.restrict(dgamma), a0, penetration=penetration,
                            mean_pressure=mean_pressure,
                            mask0=None if mask0 is None else coarse.restrict(mask0),

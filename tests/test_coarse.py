@@ -93,3 +93,17 @@ def test_an_empty_coarse_front_falls_back_to_the_given_start(monkeypatch):
                          coarse_start=True)
     assert res.status == "partial", res.message
     assert area_radius(op, res, w) == pytest.approx(aJ, rel=0.01)
+
+
+def test_a_front_tolerance_beyond_the_coarse_band_is_clipped_there():
+    """solver.front_tol may reach a0/(2h) cells on the fine grid (keys.front_tol_max), where
+    a0 spans twice the cells of the coarse grid: the coarse start solves with the tolerance
+    its own band allows instead of refusing it (a ValueError before).  JKR sphere at zero
+    load, 256², a0 = 4 cells (2 on the 128² start, whose largest tolerance is 1 cell),
+    front_tol = 2 cells: partial, radius within 1 % of JKR as in the test above."""
+    cell, op, h, r, w = jkr_cell(256, W_JKR)
+    aJ = ref.jkr_radius(0.0, 1.0, 1.0, w)
+    res = solve_adhesive(op, h, w, 4 * cell.hx, mean_pressure=0.0, mask0=r < 0.9 * aJ,
+                         coarse_start=True, front_tol=2.0)
+    assert res.status == "partial", res.message
+    assert area_radius(op, res, w) == pytest.approx(aJ, rel=0.01)

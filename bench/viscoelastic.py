@@ -38,11 +38,14 @@ viscoelastic adhesiveless and the adhesive solves (``--figure`` redraws it from 
 ``--large``: the SLS adhesive state of the same case at 1024² and 2048² with ``--threads``
 FFT threads (default 2, the machine's cores), in wall seconds, from the adhesiveless start
 (the default) and from the coarse-grid start (``solver.coarse_start``), against its
-adhesiveless solve timed alike (section ``adhesive_large``, bench/viscoelastic_large.json).
+adhesiveless solve timed alike (section ``adhesive_large``, bench/viscoelastic_large.json);
+``--large-starts`` picks the starts, ``--front-tol`` sets ``solver.front_tol`` (cells), and a
+run replaces only the rows of its own sizes, starts and tolerance.
 
 Usage: python bench/viscoelastic.py [--sizes 256 512 1024 2048] [--runs 3]
        python bench/viscoelastic.py --robustness | --starts | --adhesive [--sizes 128 256 512]
        python bench/viscoelastic.py --large [--sizes 1024 2048] [--threads 2]
+           [--large-starts adhesiveless coarse] [--front-tol F]
        python bench/viscoelastic.py --figure
 """
 
@@ -65,6 +68,7 @@ import numpy as np  # noqa: E402
 
 from spectralbem import __version__, newton  # noqa: E402
 from spectralbem.contact import active_set, polonsky_keer, solve_contact  # noqa: E402
+from spectralbem.keys import FRONT_TOL  # noqa: E402
 from spectralbem.layers import GluedLayer, HalfSpace, PressureLayer  # noqa: E402
 from spectralbem.materials import Elastic, StandardLinearSolid  # noqa: E402
 from spectralbem.spectral import SpectralOperator  # noqa: E402
@@ -357,16 +361,21 @@ def adhesive_rows(sizes):
     return rows
 
 
-def large_rows(sizes, threads, out: Path, starts=("adhesiveless", "coarse")):
+LARGE_STARTS = ("adhesiveless", "coarse")
+
+
+def large_rows(sizes, threads, out: Path, starts=LARGE_STARTS, front_tol=None):
     """The viscoelastic adhesive loading state of cases/rough_convergence.toml (1e4 Pa) at
     the large grids with ``threads`` FFT threads, wall seconds, against its adhesiveless
     solve timed alike (the targets: 1024² in 2 min, 2048² in 15 min on 2 cores), from each
     of ``starts``: the adhesiveless solve (the default) and the coarse-grid start
-    (``solver.coarse_start``).  Each finished size is written to ``out`` at once."""
+    (``solver.coarse_start``), at ``front_tol`` cells (None: the default).  Each finished
+    row is merged into ``out`` at once, replacing the row of the same N, start and
+    front_tol of an earlier run; returns all the rows of ``out``."""
     from spectralbem.scenes import load_scene, solve
 
     case = ROUGH_CASE
-    rows = []
+    rows = json.loads(out.read_text()) if out.exists() else []
     for n in sizes:
         raw, free = _rough_case("sls")
         ov = {"grid.Nx": n, "grid.Ny": n, "solver.threads": threads}
@@ -376,6 +385,8 @@ def large_rows(sizes, threads, out: Path, starts=("adhesiveless", "coarse")):
         free_wall = time.perf_counter() - w
         for start in starts:
             extra = {"solver.coarse_start": start == "coarse"}
+            if front_tol is not None:
+                extra["solver.front_tol"] = front_tol
             scene = load_scene(raw, overrides={**ov, **extra}, base_dir=case.parent)
             w, c = time.perf_counter(), time.process_time()
             ds = solve(scene)
@@ -385,17 +396,26 @@ def large_rows(sizes, threads, out: Path, starts=("adhesiveless", "coarse")):
                        status=str(ds["status"].values), outer=int(ds["iterations"]),
                        area=float(ds["area_fraction"]), mu=float(ds["mu"]),
                        mu_adhesive=float(ds["mu_adhesive"]), G1=float(ds["G1"]),
-                       G2=float(ds["G2"]), dgamma=float(raw["adhesion"]["dgamma"]))
-            rows.append(row)
+                       G2=float(ds["G2"]), dgamma=float(raw["adhesion"]["dgamma"]),
+                       front_tol=front_tol, date=time.strftime("%Y-%m-%d"))
+            rows = [r for r in rows if _large_key(r) != _large_key(row)] + [row]
+            rows.sort(key=_large_key)
             out.write_text(json.dumps(rows, indent=1))
             print(json.dumps(row), flush=True)
     return rows
 
 
+def _large_key(r: dict) -> tuple:
+    """A large row's identity: N, front_tol (None, the default, first), start."""
+    ft = r.get("front_tol")
+    return (r["N"], -1.0 if ft is None else ft, LARGE_STARTS.index(r["start"]))
+
+
 def large_markdown(rows) -> str:
-    lines = ["| N² | FFT threads | start | adhesive state (wall s) | its CPU s | adhesiveless "
-             "(wall s) | ratio | status | front iterations | area | μ | μ_a | G1/Δγ | G2/Δγ "
-             "| target |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| N² | FFT threads | start | front_tol (cells) | adhesive state (wall s) | its CPU "
+             "s | adhesiveless (wall s) | ratio | status | front iterations | area | μ | μ_a | "
+             "G1/Δγ | G2/Δγ | target | measured |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     target = {1024: 120.0, 2048: 900.0}
     for r in rows:
         t = target.get(r["N"])
@@ -403,11 +423,13 @@ def large_markdown(rows) -> str:
                    f"{t / 60:.0f} min: {'met' if r['adhesive_wall'] <= t else '**not met**'}")
         dg = r["dgamma"]
         start = {"coarse": "coarse grid"}.get(r["start"], r["start"])
-        lines.append(f"| {r['N']}² | {r['threads']} | {start} | {r['adhesive_wall']:.0f} | "
+        ft = (f"{FRONT_TOL:g} (default)" if r.get("front_tol") is None
+              else f"{r['front_tol']:g}")
+        lines.append(f"| {r['N']}² | {r['threads']} | {start} | {ft} | {r['adhesive_wall']:.0f} | "
                      f"{r['adhesive_cpu']:.0f} | {r['adhesiveless_wall']:.2f} | "
                      f"**{r['ratio']:.0f}×** | {r['status']} | {r['outer']} | {r['area']:.4f} | "
                      f"{r['mu']:.5f} | {r['mu_adhesive']:.3g} | {r['G1'] / dg:.3f} | "
-                     f"{r['G2'] / dg:.3f} | {verdict} |")
+                     f"{r['G2'] / dg:.3f} | {verdict} | {r['date']} |")
     return "\n".join(lines)
 
 
@@ -493,6 +515,10 @@ def main(argv=None):
                     help="the viscoelastic adhesive state at 1024² and 2048² (or --sizes) "
                          "with --threads FFT threads, wall seconds")
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--large-starts", nargs="+", choices=LARGE_STARTS, default=LARGE_STARTS,
+                    help="--large: the starts to time (default both)")
+    ap.add_argument("--front-tol", type=float, default=None,
+                    help="--large: solver.front_tol in cells (default: the solver's, 0.5)")
     ap.add_argument("--figure", action="store_true",
                     help="only redraw docs/figures/solve_cost.png from the JSON files")
     a = ap.parse_args(argv)
@@ -518,10 +544,14 @@ def main(argv=None):
         return
     if a.large:
         sizes = a.sizes if a.sizes != ap.get_default("sizes") else [1024, 2048]
-        rows = large_rows(sizes, a.threads, ROOT / "bench" / "viscoelastic_large.json")
-        write_section("adhesive_large", stamp + f"--large --sizes {' '.join(map(str, sizes))}"
-                      f" --threads {a.threads}` (wall seconds, {a.threads} FFT threads, "
-                      f"{os.cpu_count()} cores):\n\n" + large_markdown(rows))
+        rows = large_rows(sizes, a.threads, ROOT / "bench" / "viscoelastic_large.json",
+                          tuple(a.large_starts), a.front_tol)
+        write_section("adhesive_large", "Measured with `python bench/viscoelastic.py --large "
+                      "[--sizes 1024 2048] [--large-starts adhesiveless coarse] [--front-tol "
+                      "F] --threads 2` (wall seconds, FFT threads as in the row, "
+                      f"{os.cpu_count()} cores; a run replaces the rows of its sizes, starts and "
+                      "front_tol and keeps the others, each row with its date):\n\n"
+                      + large_markdown(rows))
         return
     if a.starts:
         rows = starts()

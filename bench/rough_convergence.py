@@ -42,6 +42,8 @@ ROOT = Path(__file__).resolve().parent.parent
 CASE = ROOT / "cases" / "rough_convergence.toml"
 #: the case's a0 (m): 1, 2, 4, 8 cells at 128², 256², 512², 1024²
 A0 = 7.8125e-6
+#: the side L of the case's square cell (m): a0 in cells and areas per front length from it
+SIDE = float(read_scene_file(CASE)["grid"]["Lx"])
 KEYS = ("area_fraction", "mean_gap", "mu", "mu_adhesive", "G1", "G2")
 MATERIALS = {
     "elastic": {"kind": "elastic", "E": 1e6, "nu": 0.5},  # resting slab: no motion needed
@@ -126,7 +128,7 @@ def scan_one(n: int, a0_cells: float, sigma: float | None) -> dict:
     """The elastic loading state at 1e4 Pa at N² with a0 in cells and σ in units of a0 (a0
     is numerical in an elastic scene): area fraction (the balanced sub-cell front's), the
     mask's fraction of cells in contact, status, balanced fraction, front length, CPU s."""
-    ds, cpu = _solve(n, "elastic", a0_cells * 1e-3 / n, sigma, loads=[1e4])
+    ds, cpu = _solve(n, "elastic", a0_cells * SIDE / n, sigma, loads=[1e4])
     return dict(N=n, a0_cells=a0_cells, sigma=sigma, cpu=cpu,
                 area_fraction=float(ds["area_fraction"]),
                 mask_fraction=float(ds["contact"].mean()), status=str(ds["status"].values),
@@ -399,11 +401,11 @@ def _default_sigma(material: str) -> float:
 
 def _mask_columns(r: dict) -> str:
     """The mask's fraction and the mean offset of the balanced edge beyond the mask's edge
-    (µm: the area between them per front length on the cell of L = 1 mm); '— | —' for a row
-    measured before the scan recorded the mask."""
+    (µm: the area between them per front length); '— | —' for a row measured before the
+    scan recorded the mask."""
     if "mask_fraction" not in r:
         return "— | —"
-    beyond = (r["area_fraction"] - r["mask_fraction"]) * 1e-6 / r["front_length"]
+    beyond = (r["area_fraction"] - r["mask_fraction"]) * SIDE**2 / r["front_length"]
     return f"{r['mask_fraction']:.4f} | {beyond * 1e6:+.2f}"
 
 
@@ -423,7 +425,7 @@ def lengths_report(scans: list) -> list:
              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in sorted(scans, key=lambda r: (r["N"], r["a0_cells"], -1 if r["sigma"] is None
                                           else r["sigma"])):
-        a0 = r['a0_cells'] * 1e3 / r['N']
+        a0 = r['a0_cells'] * SIDE * 1e6 / r['N']
         sig = _default_sigma("elastic") if r['sigma'] is None else r['sigma']
         lines.append(f"| {r['N']} | {r['a0_cells']:g} | {a0:.3g} | "
                      f"{'default' if r['sigma'] is None else format(sig, 'g')} | "

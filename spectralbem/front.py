@@ -151,8 +151,10 @@ def release_rates(op, tests, where, dgamma, ds=None, offset_out=None, a0=None):
 
 def front_outputs(op, r, dgamma) -> dict:
     """The sub-cell front's outputs of the adhesive result ``r`` (see the module docstring):
-    area (m²), area_fraction, front_length (m), G1, G2 (J/m²), mu_adhesive, the G map on the
-    outer front (nan elsewhere) and the number of unresolved patches."""
+    area (m²), area_fraction, front_length (m), crack_tip_length (m: the part of the front
+    that is a crack tip, over which G1, G2 and mu_adhesive are taken; the rest is held by
+    contact), G1, G2 (J/m²), mu_adhesive, the G map on the outer front (nan elsewhere) and
+    the number of unresolved patches."""
     cell = op.cell
     t = r.tests
     b = t.bands
@@ -188,7 +190,8 @@ def front_outputs(op, r, dgamma) -> dict:
     W = float(r.pressure.sum()) * cell.cell_area
     small = abs(W) <= 1e-9 * float(np.abs(r.pressure).sum()) * cell.cell_area
     return dict(area=area, area_fraction=area / (cell.Lx * cell.Ly),
-                front_length=length, G1=G1G2[0], G2=G1G2[1],
+                front_length=length, crack_tip_length=float(np.sum(ds[ok])),
+                G1=G1G2[0], G2=G1G2[1],
                 mu_adhesive=np.nan if small else force / W,
                 G_map=np.where(ok, G / dg, np.nan),
                 unresolved_patches=r.unresolved_patches)

@@ -59,6 +59,9 @@ SCALARS = {
     "front_residual": ("1", "front residual (cells)",
                        "largest balance residual of the front in position"),
     "front_length": ("m", "front length", "of the balanced front of the resolved patches"),
+    "crack_tip_length": ("m", "crack-tip length",
+                         "the part of front_length that is a crack tip (the rest is held by "
+                         "contact): G1, G2 and mu_adhesive are taken over it"),
     "substeps": ("1", "path sub-steps",
                  "equal steps of the control from the previous path state that reached this "
                  "one (1: the direct step; more after a direct step did not converge)"),

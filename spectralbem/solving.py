@@ -255,11 +255,12 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
                 mu_a = quotient(fo["G1"] - fo["G2"], 0.0, abs(fo["G1"]) + abs(fo["G2"]))
             sc.update(G1=fo["G1"], G2=fo["G2"], mu_adhesive=mu_a,
                       front_length=fo["front_length"],
+                      crack_tip_length=fo["crack_tip_length"],
                       small_patch_diameter=small_patch_diameter(
                           mask, scene.a0, (cell.hx, cell.hy)))
             fields["G_front"] = fo["G_map"]
         elif status in ("detached", "full_contact"):  # no front (the 1D method's values)
-            sc.update(G1=0.0, G2=0.0, mu_adhesive=0.0, front_length=0.0,
+            sc.update(G1=0.0, G2=0.0, mu_adhesive=0.0, front_length=0.0, crack_tip_length=0.0,
                       balanced_fraction=1.0, front_residual=0.0,
                       small_patch_diameter=0.0 if status == "detached" else
                       small_patch_diameter(mask, scene.a0, (cell.hx, cell.hy)))
@@ -268,6 +269,7 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
                     cell.shape)
         else:
             sc.update(G1=np.nan, G2=np.nan, mu_adhesive=np.nan, front_length=np.nan,
+                      crack_tip_length=np.nan,
                       small_patch_diameter=np.nan)
         diag = {"a0": r.a0, "edge_shift": r.edge_shift, "method": r.method,
                 "history": r.history[-20:]}

@@ -541,3 +541,34 @@ def test_the_average_along_the_front_in_place_equals_the_fresh_one():
         assert np.array_equal(inplace[front], fresh[front], equal_nan=True)
         assert np.array_equal(inplace[~front], F[~front], equal_nan=True)
         assert np.isfinite(fresh[front]).sum() > 0.5 * front.sum()
+
+
+def test_crack_tip_length_is_the_part_of_the_front_not_held_by_contact():
+    """``crack_tip_length``: the length of the front over which G1, G2 and μ_a are taken.
+    The elastic JKR sphere at zero load (256², a0 = 2 cells) is a crack tip all round:
+    crack_tip_length = front_length, within 3 % of 2π a for the radius a of the sub-cell
+    front (the length of a digital circle's front cells by their normals: measured +1.6 %).
+    The physical sinusoid at vanishing adhesion (Δγ = 1e-9 J/m², y-invariant, 256 × 2) has
+    two straight fronts, both held by contact (compressive edges, the adhesiveless
+    contact): front_length = 2 Ly exactly, crack_tip_length = 0, G1 = G2 = μ_a = 0."""
+    from pathlib import Path
+
+    from spectralbem.front import front_outputs
+    from spectralbem.scenes import load_scene
+    from spectralbem.validate import W_JKR, area_radius, jkr_cell
+
+    cell, op, h, r, w = jkr_cell(256, W_JKR)
+    res = solve_adhesive(op, h, w, 2 * cell.hx, mean_pressure=0.0,
+                         mask0=r < 0.9 * ref.jkr_radius(0.0, 1.0, 1.0, w))
+    assert res.status == "partial", res.message
+    fo = front_outputs(op, res, w)
+    assert fo["crack_tip_length"] == fo["front_length"] > 0
+    assert fo["front_length"] == pytest.approx(2 * np.pi * area_radius(op, res, w), rel=0.03)
+
+    case = Path(__file__).parents[1] / "cases" / "sinusoid_physical.toml"
+    ds = sb.solve(load_scene(case, overrides={"scene.model": "grid2d", "grid.Nx": 256,
+                                              "adhesion.dgamma": 1e-9, "adhesion.a0": 4e-7}))
+    assert ds.status.item() == "partial"
+    assert ds.front_length.item() == pytest.approx(2 * 1e-6, rel=1e-12)
+    assert ds.crack_tip_length.item() == 0.0
+    assert ds.G1.item() == ds.G2.item() == ds.mu_adhesive.item() == 0.0

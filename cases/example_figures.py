@@ -6,6 +6,9 @@ Run by ``make figures`` (about a minute on 2 cores); each figure is what
 * example_state_rough.png — a viscoelastic rough state (cases/rubber_rough.toml at 128²);
 * example_state_adhesive.png — an adhesive state with its front coloured by G/Δγ
   (cases/jkr_sphere.toml, 256², zero load);
+* example_state_rough_adhesive.png — an adhesive viscoelastic rough state: the front's
+  crack tips coloured by G/Δγ, the edges held by contact in black
+  (cases/rough_convergence.toml, 256², loading at 1e4 Pa);
 * example_path.png — a load/unload path with adhesion hysteresis
   (cases/rough_convergence.toml at 128², loads 1e4, 3e4, 1e4, 3e3 Pa);
 * example_sweep.png — μ and the contact area against the sliding speed
@@ -56,6 +59,8 @@ FIGURES = {
     "state_rough": lambda: sb.solve(_scene("rubber_rough", **{"grid.Nx": 128,
                                                               "grid.Ny": 128})),
     "state_adhesive": lambda: sb.solve(_scene("jkr_sphere", **{"control.mean_pressure": 0.0})),
+    "state_rough_adhesive": lambda: sb.solve(_scene("rough_convergence", **{
+        "control.mean_pressure": 1e4})),
     "path": lambda: sb.solve(_scene("rough_convergence", **{
         "grid.Nx": 128, "grid.Ny": 128, "control.mean_pressure": [1e4, 3e4, 1e4, 3e3]})),
     "sweep": _sweep,

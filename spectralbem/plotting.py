@@ -20,6 +20,8 @@ if not os.environ.get("MPLBACKEND"):
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from .bands import front_cells  # noqa: E402
+
 SEED_CURVES = ("a_tilde", "e_tilde", "G1_over_dgamma", "G2_over_dgamma", "mu_bar")
 PHYS_CURVES = ("area_fraction", "mu", "G1", "G2", "mu_adhesive", "penetration")
 LABELS = {"a_tilde": "ã", "e_tilde": "ẽ", "G1_over_dgamma": "G1/Δγ", "G2_over_dgamma": "G2/Δγ",
@@ -288,13 +290,23 @@ def plot_contact(ds, path=None):
         sc = ax.scatter(X[ok], Y[ok], c=np.clip(G[ok], lo, hi), s=4, cmap="coolwarm",
                         marker="s", vmin=lo, vmax=hi)
         fig.colorbar(sc, ax=ax, label="local G/Δγ on the front")
+        held = front_cells(contact)[0] & ~ok  # edges held by contact (or unresolved)
+        ax.scatter(X[held], Y[held], c="k", s=2, marker="s",
+                   label="front without a crack tip")
+        if held.any():
+            ax.legend(loc="upper right", fontsize=7, markerscale=3)
     if not seed and (ds.attrs.get("velocity_x", 0.0) or ds.attrs.get("velocity_y", 0.0)):
         L = 0.18 * min(np.ptp(x), max(np.ptp(y), 1e-300))
         x0, y0 = x[0] + 0.12 * np.ptp(x), y[0] + 0.12 * np.ptp(y)
         ax.annotate("v", (x0 + L * vhat[0], y0 + L * vhat[1]), (x0, y0), color="C1",
                     arrowprops=dict(arrowstyle="->", color="C1", lw=2), fontsize=10)
     frac = float(ds["area_fraction"]) if "area_fraction" in ds else float(contact.mean())
-    ax.set_title(f"contact (area fraction {frac:.3f})")
+    tips = ""
+    if "crack_tip_length" in ds and float(ds["front_length"]) > 0:
+        share = float(ds["crack_tip_length"]) / float(ds["front_length"])
+        tips = f"; crack tips {100 * share:.0f} % of front"
+    ax.set_title(f"contact (area {frac:.3f}{tips})" if tips
+                 else f"contact (area fraction {frac:.3f})")
     ax = axes[1]
     pp = np.ma.masked_where(~contact, p * pu)
     # robust colour scale: isolated tensile spikes at front corners would hide the field

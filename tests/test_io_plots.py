@@ -383,8 +383,10 @@ def test_validate_writes_where_output_says(tmp_path, monkeypatch):
 
 def test_state_figure_has_title_block_diverging_pressure_and_cut():
     """The state figure of an adhesive scene: a title block naming the scene, material, v,
-    p̄, μ and area; the pressure diverging around p = 0 with non-contact masked; the gap on
-    a log scale; the profile cut drawn (dashed) on each map."""
+    p̄, μ and area; the contact map's title the crack tips' share of the front (a JKR disc:
+    all of it, no front cell held by contact); the pressure diverging around p = 0 with
+    non-contact masked; the gap on a log scale; the profile cut drawn (dashed) on each
+    map."""
     import matplotlib.pyplot as plt
     from matplotlib import colors
 
@@ -409,6 +411,9 @@ def test_state_figure_has_title_block_diverging_pressure_and_cut():
     titles = {ax.get_title() for ax in fig.axes}
     assert {"pressure distribution", "surface power spectrum (radial mean)",
             "release rate along the front"} <= titles
+    # a JKR disc is a crack tip all round: no front cell is marked as held by contact
+    assert "crack tips 100 % of front" in maps[0].get_title()
+    assert not maps[0].get_legend()
     plt.close(fig)
 
 

@@ -11,6 +11,7 @@ error of each N from the three finest grids.
 
 Usage: python bench/rough_convergence.py [--sizes 128 256 512] [--materials elastic sls]
            [--a0 7.8125e-6] [--sigma 1.5] [--front-tol 1.0] [--coarse-start] [--loading-only]
+           [--extrapolate-a0]
            [--out bench/rough_convergence.json] [--report]
        python bench/rough_convergence.py --scan
 ``--report`` only rewrites docs/rough_convergence.md from the JSON; ``--scan`` runs the
@@ -53,7 +54,7 @@ MATERIALS = {
 
 def _solve(n: int, material: str, a0: float, sigma: float | None, loads=None,
            coarse: bool = False, front_tol: float | None = None,
-           delayed: str = DELAYED_DEFAULT):
+           delayed: str = DELAYED_DEFAULT, extrapolate: bool = False):
     """(Dataset, CPU s) of the case at N², the material's overrides, a0 (m), σ (in units of
     a0, growing with large patches as by default; None: the material's default), the load path
     (None: the case's) and whether each state starts from the coarse grid's front."""
@@ -69,6 +70,8 @@ def _solve(n: int, material: str, a0: float, sigma: float | None, loads=None,
         ov["solver.coarse_start"] = True
     if front_tol is not None:
         ov["solver.front_tol"] = front_tol
+    if extrapolate:
+        ov["solver.extrapolate_a0"] = True
     if material != "elastic":
         ov["solver.delayed_kernel"] = delayed
     t = time.process_time()
@@ -78,13 +81,15 @@ def _solve(n: int, material: str, a0: float, sigma: float | None, loads=None,
 
 def run_one(n: int, material: str, a0: float, sigma: float | None,
             coarse: bool = False, loading_only: bool = False,
-            front_tol: float | None = None, delayed: str = DELAYED_DEFAULT) -> dict:
+            front_tol: float | None = None, delayed: str = DELAYED_DEFAULT,
+            extrapolate: bool = False) -> dict:
     """One load path at N², the material's overrides, a0 (m), σ (units of a0, or None),
     from the adhesiveless start or the coarse grid's front (``coarse``); ``loading_only``:
     the first state of the path only (1e4 Pa); ``front_tol``: solver.front_tol (None: the
-    default); ``delayed``: solver.delayed_kernel."""
+    default); ``delayed``: solver.delayed_kernel; ``extrapolate``: solver.extrapolate_a0."""
     ds, cpu = _solve(n, material, a0, sigma, loads=[1e4] if loading_only else None,
-                     coarse=coarse, front_tol=front_tol, delayed=delayed)
+                     coarse=coarse, front_tol=front_tol, delayed=delayed,
+                     extrapolate=extrapolate)
     if "step" not in ds.dims:
         ds = ds.expand_dims("step")
     steps = []
@@ -108,7 +113,7 @@ def run_one(n: int, material: str, a0: float, sigma: float | None,
             else float("nan"))
     return dict(N=n, material=material, a0=a0, sigma=sigma, cpu=cpu, steps=steps,
                 hysteresis=hyst, coarse_start=coarse, loading_only=loading_only,
-                front_tol=front_tol,
+                front_tol=front_tol, extrapolate_a0=extrapolate,
                 delayed_kernel=None if material == "elastic" else delayed)
 
 
@@ -120,10 +125,12 @@ def _kernel(r: dict):
 
 def _key(r: dict) -> tuple:
     """A run's table: material, a0, σ, the start (rows before the coarse start: False),
-    whether it is the loading state alone, the tolerance in position (None: default) and the
-    discretisation of the kernel's delayed part."""
+    whether it is the loading state alone, the tolerance in position (None: default), the
+    discretisation of the kernel's delayed part and the extrapolation of the elastic edge
+    in a0."""
     return (r["material"], r["a0"], r["sigma"], bool(r.get("coarse_start", False)),
-            bool(r.get("loading_only", False)), r.get("front_tol"), _kernel(r))
+            bool(r.get("loading_only", False)), r.get("front_tol"), _kernel(r),
+            bool(r.get("extrapolate_a0", False)))
 
 
 def scan_one(n: int, a0_cells: float, sigma: float | None) -> dict:
@@ -174,7 +181,9 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "`criterion.exact_width`, below it the whole layers: the 128² row of a0 = "
              "7.8 µm and the 256² row of 3.9 µm have a0 = one cell, so the Richardson "
              "estimates of those tables mix two band rules; at a0 = 7.8 µm the 1024² "
-             "loading state of the `--front-tol 1` table reads 1.7 % below 512²); in a "
+             "loading state of the `--front-tol 1` table reads 1.7 % below 512²; the "
+             "tables marked \"edge extrapolated to a0 → 0\" remove the a0² part of that "
+             "dependence with `solver.extrapolate_a0`, docs/theory.md); in a "
              "viscoelastic "
              "scene the relaxation length vτ (4 µm here: 0.5, 1, 2, 4 cells at 128², 256², "
              "512², 1024²) must span about two cells before the trailing edge is resolved: "
@@ -234,7 +243,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
     by = {}
     for r in runs:
         by.setdefault(_key(r), []).append(r)
-    for (mat, a0, sig, coarse, only, ftol, dk), rs in sorted(by.items(),
+    for (mat, a0, sig, coarse, only, ftol, dk, ex), rs in sorted(by.items(),
                                                              key=lambda kv: str(kv[0])):
         rs = sorted(rs, key=lambda r: r["N"])
         lines += [f"## {mat}, a0 = {a0 * 1e6:g} µm, front smoothing σ = "
@@ -242,6 +251,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
                   + (", coarse-grid start" if coarse else "")
                   + (f", front_tol = {ftol:g} cells (`--front-tol`)" if ftol is not None else "")
                   + (", loading state only (`--loading-only`)" if only else "")
+                  + (", edge extrapolated to a0 → 0 (`--extrapolate-a0`)" if ex else "")
                   + ("" if dk is None else f", delayed kernel: {dk}"
                      + (" (default)" if dk == DELAYED_DEFAULT else " (`--delayed-kernel`)")),
                   "",
@@ -300,6 +310,7 @@ def _series(runs, material, step, key, coarse=False, only=None, a0=A0):
         if (r["material"] != material or bool(r.get("coarse_start", False)) != coarse
                 or abs(r["a0"] - a0) > 1e-6 * a0
                 or r["sigma"] is not None or r.get("front_tol") is not None
+                or r.get("extrapolate_a0", False)
                 or _kernel(r) not in (None, DELAYED_DEFAULT)
                 or step >= len(r["steps"])):
             continue
@@ -494,6 +505,9 @@ def main(argv=None):
                          "grids where the whole path is too long (1024²)")
     ap.add_argument("--delayed-kernel", default=DELAYED_DEFAULT, choices=DELAYED,
                     help="solver.delayed_kernel of the viscoelastic scenes: a separate table")
+    ap.add_argument("--extrapolate-a0", action="store_true",
+                    help="elastic: solver.extrapolate_a0 (the edge of the tests at a0 and "
+                         "a0/2 extrapolated to a0 → 0): a separate table")
     ap.add_argument("--report", action="store_true")
     ap.add_argument("--scan", action="store_true",
                     help="only the elastic state against a0 and σ (SCAN)")
@@ -516,7 +530,8 @@ def main(argv=None):
             for a0 in args.a0:
                 for n in args.sizes or (128, 256, 512):
                     r = run_one(n, mat, a0, args.sigma, args.coarse_start,
-                                args.loading_only, args.front_tol, args.delayed_kernel)
+                                args.loading_only, args.front_tol, args.delayed_kernel,
+                                args.extrapolate_a0)
                     runs = [x for x in runs if (x["N"],) + _key(x) != (n,) + _key(r)] + [r]
                     args.out.write_text(json.dumps(runs, indent=1))
                     s = r["steps"]

@@ -266,7 +266,7 @@ def exact_width(op: SpectralOperator, a0: float) -> bool:
                 or a0 >= EXACT_WIDTH_MIN_CELLS * min(cell.hx, cell.hy) * (1 - 1e-9))
 
 
-def _band_plan(op, b: Bands, a0: float, normal, sigma: float):
+def _band_plan(op, b: Bands, a0: float, normal, sigma: float, exact: bool):
     """The bands each test interpolates: [(reach, outer weights, inner weights), ...] with
     the reach (m) of a band (the cells whose centre lies within it of the other side's
     centres; None: along_front.upper_band, returned too) and the weights packed over the
@@ -279,7 +279,7 @@ def _band_plan(op, b: Bands, a0: float, normal, sigma: float):
     scene's a0 below two cells, where the edge is the sharp-crack edge fitted over the
     bands' actual widths): the whole layers of :func:`band_weights`, one weight each."""
     n_out, n_in = int(np.count_nonzero(b.outer_front)), int(np.count_nonzero(b.inner_front))
-    if not exact_width(op, a0):
+    if not exact:
         h = min(b.spacing)
         return [(m * h, np.full(n_out, wt), np.full(n_in, wt))
                 for m, wt in band_weights(a0, *b.spacing)], None
@@ -393,8 +393,8 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
                 observables: dict | None = None, front_smoothing: float | None = None,
                 smoothing_per_radius: float = SMOOTHING_PER_RADIUS,
                 u: np.ndarray | None = None, adjoint: bool = True,
-                band_rtol: float | None = None, starts: BandStarts | None = None
-                ) -> FrontTest:
+                band_rtol: float | None = None, starts: BandStarts | None = None,
+                exact: bool | None = None) -> FrontTest:
     """Closing and opening tests of every front cell at fixed Δ (Eqs. 3, 8-10 on bands).
 
     The band is exactly ``a0`` wide for any a0/h ≥ 1: the works (and every integrated
@@ -424,7 +424,8 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     area = cell.cell_area
     dg = np.asarray(dgamma, dtype=float)
     hmin = min(cell.hx, cell.hy)
-    b = bands(mask, cell.hx, cell.hy, a0, reach=a0 + hmin if exact_width(op, a0) else None)
+    exact = exact_width(op, a0) if exact is None else exact
+    b = bands(mask, cell.hx, cell.hy, a0, reach=a0 + hmin if exact else None)
     if u is None:
         u = op.apply(p)
     if starts is not None:
@@ -445,7 +446,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     cols = colours(b, vhat, op.viscoelastic, normal)
     sigma = _sigma_cells(default_smoothing(front_smoothing, op.viscoelastic), a0, hmin,
                          mask.shape)
-    plan, upper = _band_plan(op, b, a0, normal, sigma)
+    plan, upper = _band_plan(op, b, a0, normal, sigma, exact)
     del normal  # not held while the band solves run (the peak of a front test)
     io_out, io_in = np.flatnonzero(b.outer_front), np.flatnonzero(b.inner_front)
     own, own_i = b.outer_owner.ravel(), b.inner_owner.ravel()

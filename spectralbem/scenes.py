@@ -498,6 +498,8 @@ def _build_physical(spec: dict, base: Path) -> Scene:
                   adhesive=adh["dgamma"] > 0 or adh["dgamma_map"] is not None,
                   steps=len(values), fields=spec["output"]["fields"])
     _check_memory("grid.Nx × grid.Ny", cell.shape, model=model, **memory)  # before any work
+    if spec["solver"].get("extrapolate_a0"):
+        _check_extrapolation(cell, adh["a0"], model, memory)
     h = _build("surface", spec["surface"], cell, base, problems)
     dgamma = adh["dgamma"]
     if adh["dgamma_map"] is not None:
@@ -525,6 +527,18 @@ def _build_physical(spec: dict, base: Path) -> Scene:
     if name == "penetration" and model == "grid2d":
         _check_penetration(layer, mat.nu, h, values)
     return scene
+
+
+def _check_extrapolation(cell: Cell, a0, model: str, memory: dict) -> None:
+    """solver.extrapolate_a0 needs an adhesive elastic grid scene with a0 of two cells or more
+    (adhesive.solve_adhesive)."""
+    cells = (a0 or 0.0) / min(cell.hx, cell.hy)
+    if memory["viscoelastic"] or not memory["adhesive"] or model != "grid2d" \
+            or cells < 2 * (1 - 1e-9):
+        raise SceneError([f"solver.extrapolate_a0: true needs an adhesive elastic 2D scene "
+                          f"with adhesion.a0 of at least 2 cells (a0 is numerical there); "
+                          f"this one: viscoelastic {memory['viscoelastic']}, adhesive "
+                          f"{memory['adhesive']}, model {model}, a0 = {cells:g} cells"])
 
 
 def solve(scene: Scene, *, mask0=None, progress: bool = False):

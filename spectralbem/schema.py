@@ -176,6 +176,10 @@ SECTIONS = {
                            "fewer front iterations in elastic scenes and in the rough "
                            "viscoelastic state at 1024², see docs/performance.md)",
                            default=False),
+        "extrapolate_a0": _k("boolean", "adhesive elastic 2D scenes with a0 of two cells or "
+                             "more: the sharp-crack edge from the tests at a0 and a0/2, "
+                             "extrapolated to a0 → 0 (Richardson; twice the band solves, "
+                             "docs/theory.md)", default=False),
     },
     "output": {
         "fields": _k("boolean", "store the 2D fields (pressure, gap, ...) in the dataset",

@@ -201,7 +201,8 @@ def _grid_state(scene: Scene, op: SpectralOperator, mask0=None, progress=None,
                           criterion=solver.get("criterion", "exact"),
                           front_tol=solver.get("front_tol", FRONT_TOL),
                           flaw_radius=scene.flaw_radius, progress=progress,
-                          coarse_start=solver.get("coarse_start", False))
+                          coarse_start=solver.get("coarse_start", False),
+                          extrapolate_a0=solver.get("extrapolate_a0", False))
 
 
 def _adhesiveless_mask(op, scene: Scene):

@@ -73,6 +73,13 @@ API = [
     ("front_tol > a0/2", lambda: solve_adhesive(OP, H, 0.1, 0.25, mean_pressure=0.1,
                                                 front_tol=3.0),
      ["front_tol = 3.0", "(0, 2]", "a0 = 4 cells"]),
+    ("extrapolate a0 = 1 cell", lambda: solve_adhesive(OP, H, 0.1, 0.0625, mean_pressure=0.1,
+                                                       extrapolate_a0=True),
+     ["extrapolate_a0", "at least 2 cells", "a0 = 1 cells"]),
+    ("extrapolate viscoelastic", lambda: solve_adhesive(
+        SpectralOperator(CELL, StandardLinearSolid(1.0, 10.0, 1.0), velocity=(0.1, 0.0)), H,
+        0.1, 0.125, mean_pressure=0.1, extrapolate_a0=True),
+     ["extrapolate_a0", "elastic scene", "physical"]),
     ("dgamma < 0", lambda: solve_adhesive(OP, H, -0.1, 0.1, mean_pressure=0.1),
      ["dgamma", "-0.1", ">= 0"]),
     ("dgamma nan", lambda: solve_adhesive(OP, H, np.nan, 0.1, mean_pressure=0.1),

@@ -231,6 +231,20 @@ def _coarse_start(op, h, dgamma, a0, penetration, mean_pressure, mask0, kw, prog
     return fine if fine.any() else mask0
 
 
+def _richardson(s, front, s_half):
+    """The offsets ``s`` of the a0 tests on the ``front`` cells replaced by Richardson's
+    combination (4 s(a0/2) − s(a0))/3 with the a0/2 tests' ``s_half`` (packed over
+    ``front``): a stress-intensity factor taken as linear over the bands leaves an O(a0²)
+    edge error (K's curvature), which this removes (docs/theory.md, "Extrapolating the
+    elastic edge"); ``s`` kept where either offset is not finite (a forced move)."""
+    out = s.copy()
+    sf = s[front]
+    with np.errstate(invalid="ignore"):
+        r = (4.0 * s_half - sf) / 3.0
+    out[front] = np.where(np.isfinite(r), r, sf)
+    return out
+
+
 _BREAK, _NEXT = "break", "next"
 
 
@@ -412,6 +426,11 @@ class _FrontIteration:
         self.s_out = self.s_in = None
         # the adjoint split of δL_P serves only the outputs: the final state's (_result)
         band_rtol = loose_band_rtol(self.test_kw["rtol"]) if self.loose else None
+        half = None  # extrapolate_a0: the a0/2 tests' offsets, packed (run first: one test
+        if self.half_starts is not None:  # is held at a time, not both)
+            half = self._half_offsets(w, outer, inner, band_rtol)
+            if half is None:
+                return None
         tests = front_tests(op, w, mask, self.p, self.dgamma, a0, u=self.u, adjoint=False,
                             band_rtol=band_rtol, starts=self.band_starts, **self.test_kw)
         self.tests = tests
@@ -423,11 +442,8 @@ class _FrontIteration:
         # front and the inner values on the inner front
         widths = (tests.width, tests.width)
         s_out, s_in = offsets(tests.F, tests.F, outer, inner, a0, self.shift > 0, widths)
-        if self.half_starts is not None:  # the sharp-crack edge extrapolated to a0 → 0
-            out = self._extrapolated(w, outer, inner, band_rtol, s_out, s_in)
-            if out is None:
-                return None
-            s_out, s_in = out
+        if half is not None:  # the sharp-crack edge extrapolated to a0 → 0
+            s_out, s_in = _richardson(s_out, outer, half[0]), _richardson(s_in, inner, half[1])
         pinned = self.pinned
         stale = None
         if self.criterion != "predictor" and self.p.mean() > 0 and pinned.any():
@@ -470,12 +486,10 @@ class _FrontIteration:
         self.res_out = res_out
         return add, remove, res_out
 
-    def _extrapolated(self, w, outer, inner, band_rtol, s_out, s_in):
-        """``extrapolate_a0``: the sharp-crack offsets of the a0 tests (``s_out``, ``s_in``)
-        and of tests at a0/2 on the same mask, s(a0/2) and s(a0), combined by Richardson's
-        rule (4 s(a0/2) − s(a0))/3: K linear over the bands leaves an O(a0²) edge error
-        (K's curvature), which this removes (docs/theory.md, "Elastic scenes: the
-        sharp-crack edge").  None when a test's solve failed."""
+    def _half_offsets(self, w, outer, inner, band_rtol):
+        """``extrapolate_a0``: the sharp-crack offsets of tests at a0/2 on the mask (the band
+        a0/2 wide at every orientation), packed over the outer and inner front cells; None
+        when a test's solve failed (:func:`_richardson` combines them with the a0 tests')."""
         half = front_tests(self.op, w, self.mask, self.p, self.dgamma, 0.5 * self.a0,
                            u=self.u, adjoint=False, band_rtol=band_rtol,
                            starts=self.half_starts, exact=True, **self.test_kw)
@@ -485,10 +499,7 @@ class _FrontIteration:
             return None
         h_out, h_in = offsets(half.F, half.F, outer, inner, 0.5 * self.a0, True,
                               (half.width, half.width))
-        with np.errstate(invalid="ignore"):
-            r_out, r_in = (4.0 * h_out - s_out) / 3.0, (4.0 * h_in - s_in) / 3.0
-        return (np.where(np.isfinite(r_out), r_out, s_out),
-                np.where(np.isfinite(r_in), r_in, s_in))
+        return h_out[outer], h_in[inner]
 
     def _moves(self, w, s_out, s_in):
         """The cells that join and leave the mask (moves.moves) by the balance's edge

@@ -237,7 +237,8 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "state at this load\" on this surface.", "",
              "![refinement](figures/rough_convergence.png)", "",
              "The figure: area fraction, μ and the release rates against N (open markers: "
-             "states not verified; dashed: the coarse-grid start; the elastic a0 = one cell "
+             "states not verified; dashed: the coarse-grid start; stars and crosses: the "
+             "elastic edge extrapolated to a0 → 0, `--extrapolate-a0`; the elastic a0 = one cell "
              "row is the scan below; μ's u-form, −Σ p v̂·∇u on the mask, is drawn for "
              "comparison with the reported μ, docs/theory.md, outputs).", ""]
     by = {}
@@ -356,6 +357,15 @@ def figure(runs: list, scans: list, out: Path) -> None:
           [r["status"] == "partial" for r in one], "loading, a0 = one cell", ":", "^", "C2")
     _plot(ae, *_series(runs, "elastic", 0, "area_fraction", a0=A0 / 2),
           f"loading, a0 = {A0 / 2 * 1e6:.2g} µm", "-.", "v", "C4")
+    for k, col, mk in ((0, "C0", "*"), (2, "C3", "P")):  # the edge extrapolated to a0 → 0
+        ex = sorted((r for r in runs if r["material"] == "elastic" and r.get("extrapolate_a0")
+                     and abs(r["a0"] - A0) <= 1e-6 * A0 and len(r["steps"]) > k),
+                    key=lambda r: r["N"])
+        if ex:
+            _plot(ae, [r["N"] for r in ex], [r["steps"][k]["area_fraction"] for r in ex],
+                  [_verified(r, k) for r in ex],
+                  ("loading" if k == 0 else "unloading") + ", edge extrapolated",
+                  ":", mk, col)
     tol1 = sorted((r for r in runs if r["material"] == "elastic" and r.get("front_tol") == 1.0
                    and abs(r["a0"] - A0) <= 1e-6 * A0), key=lambda r: r["N"])
     if tol1:
@@ -374,8 +384,11 @@ def figure(runs: list, scans: list, out: Path) -> None:
         ax.set_xlabel("N (cells per side, L = 1 mm)")
         ax.set_title(title, fontsize=10)
         ax.grid(alpha=0.3)
-        if ax.get_lines():
+        if ax.get_lines() and ax is not ae:
             ax.legend(fontsize=8)
+    lo, hi = ae.get_ylim()  # room above the data for the elastic panel's longer legend
+    ae.set_ylim(lo, hi + 0.6 * (hi - lo))
+    ae.legend(fontsize=7, ncol=2, loc="upper center")
     ag.axhline(0.01, color="k", lw=0.8, ls=":")
     fig.tight_layout()
     out.parent.mkdir(parents=True, exist_ok=True)

@@ -104,8 +104,7 @@ def run_one(n: int, material: str, a0: float, sigma: float | None,
                    balanced_fraction=float(st["balanced_fraction"]),
                    mean_pressure=float(st["mean_pressure"]),
                    unresolved_patches=int(st["unresolved_patches"]),
-                   crack_tip_length=(float(st["crack_tip_length"]) if "crack_tip_length" in st
-                                     else float("nan")),
+                   crack_tip_length=float(st["crack_tip_length"]),
                    message=str(st["solver_message"].values if "solver_message" in st
                                else ds.attrs["solver_message"]))
         steps.append(row)

@@ -45,7 +45,7 @@ from .front import (
     resolved_front,
     unresolved_patches,
 )
-from .keys import FRONT_TOL, front_tol_max
+from .keys import EXTRAPOLATE_MIN_CELLS, FRONT_TOL, extrapolable, front_tol_max
 from .masked import TRUE_RESIDUAL_MARGIN, solve_masked, solve_packed
 from .moves import (
     OSCILLATION_FLIPS,
@@ -103,9 +103,10 @@ def _check_extrapolation(op, a0) -> None:
         raise ValueError("extrapolate_a0 = True needs an elastic scene: in a viscoelastic one "
                          "a0 is a physical length (docs/theory.md)")
     cells = a0 / min(op.cell.hx, op.cell.hy)
-    if cells < 2 * (1 - 1e-9):
-        raise ValueError(f"extrapolate_a0 = True needs a0 of at least 2 cells (a0/2 at least "
-                         f"one); a0 = {cells:g} cells")
+    if not extrapolable(cells):
+        raise ValueError(f"extrapolate_a0 = True needs a0 of at least "
+                         f"{EXTRAPOLATE_MIN_CELLS:g} cells (a0/2 at least one); a0 = "
+                         f"{cells:g} cells")
 
 
 def _check_inputs(cell, penetration, mean_pressure, dgamma, a0, criterion, front_tol):
@@ -220,7 +221,7 @@ def _coarse_start(op, h, dgamma, a0, penetration, mean_pressure, mask0, kw, prog
     # and the extrapolation in a0 where a0 still spans two coarse cells
     a0_cells = a0 / min(cop.cell.hx, cop.cell.hy)
     kw = dict(kw, front_tol=min(kw["front_tol"], front_tol_max(a0_cells)),
-              extrapolate_a0=kw["extrapolate_a0"] and a0_cells >= 2 * (1 - 1e-9))
+              extrapolate_a0=kw["extrapolate_a0"] and extrapolable(a0_cells))
     state = solve_adhesive(cop, hc, coarse.restrict(dgamma), a0, penetration=penetration,
                            mean_pressure=mean_pressure,
                            mask0=None if mask0 is None else coarse.restrict(mask0),

@@ -91,6 +91,15 @@ DELAYED = ("cell", "sampled")
 DELAYED_DEFAULT = DELAYED[0]
 
 
+#: ``solver.extrapolate_a0`` needs a0 of at least this many cells (the a0/2 bands hold one)
+EXTRAPOLATE_MIN_CELLS = 2.0
+
+
+def extrapolable(a0_cells: float) -> bool:
+    """Whether an a0 of ``a0_cells`` cells can be extrapolated to a0 → 0 (adhesive)."""
+    return a0_cells >= EXTRAPOLATE_MIN_CELLS * (1 - 1e-9)
+
+
 def front_tol_max(a0_cells: float) -> float:
     """The largest front_tol (cells) for a band of a0 = ``a0_cells`` cells: the edge stays
     within half the band (at least :data:`FRONT_TOL`)."""

@@ -29,6 +29,7 @@ import numpy as np
 
 from . import kinds
 from .contact import ContactError, check_penetration
+from .keys import EXTRAPOLATE_MIN_CELLS, extrapolable
 from .layers import HalfSpace, LayerError
 from .materials import Elastic, Material, MaterialError, StandardLinearSolid
 from .schema import (
@@ -534,9 +535,10 @@ def _check_extrapolation(cell: Cell, a0, model: str, memory: dict) -> None:
     (adhesive.solve_adhesive)."""
     cells = (a0 or 0.0) / min(cell.hx, cell.hy)
     if memory["viscoelastic"] or not memory["adhesive"] or model != "grid2d" \
-            or cells < 2 * (1 - 1e-9):
+            or not extrapolable(cells):
         raise SceneError([f"solver.extrapolate_a0: true needs an adhesive elastic 2D scene "
-                          f"with adhesion.a0 of at least 2 cells (a0 is numerical there); "
+                          f"with adhesion.a0 of at least {EXTRAPOLATE_MIN_CELLS:g} cells (a0 "
+                          f"is numerical there); "
                           f"this one: viscoelastic {memory['viscoelastic']}, adhesive "
                           f"{memory['adhesive']}, model {model}, a0 = {cells:g} cells"])
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .along_front import front_average
 from .masked import solve_masked
 from .spectral import SpectralOperator
 
@@ -43,6 +44,7 @@ def complete_adjoint(tests, op: SpectralOperator, mask: np.ndarray, p: np.ndarra
     ob, ib = np.flatnonzero(b.outer_band), np.flatnonzero(b.inner_band)
     dLP_out, dLP_in = np.zeros(ob.size), np.zeros(ib.size)
     tests.rate = np.full(mask.shape, np.nan)
+    weights = []  # (owners, band areas): the weights of the average along the front
     g_idx, g_val = [], []
     psi = None
     if visco and pend["close"]:
@@ -56,11 +58,12 @@ def complete_adjoint(tests, op: SpectralOperator, mask: np.ndarray, p: np.ndarra
             dLP_out[np.searchsorted(ob, cells)] += wt * dLPj
             dLP += _owner_bincount(wt * dLPj, own[cells], owners)
         g_idx.append(owners)
-        g_val.append((dL - dLP) / area)
+        g_val.append(dL / area)
         tests.rate.ravel()[owners] = dLP / area
+        weights.append((owners, area))
     del psi  # freed before the opening bands' solves
-    tests.g_close = (np.concatenate(g_idx or [np.zeros(0, int)]),
-                     np.concatenate(g_val or [np.zeros(0)]))
+    g_idx = np.concatenate(g_idx or [np.zeros(0, int)])
+    g_val = np.concatenate(g_val or [np.zeros(0)])
     if visco:
         tests.rate_in = True
         own = tests.bands.inner_owner.ravel()
@@ -84,9 +87,38 @@ def complete_adjoint(tests, op: SpectralOperator, mask: np.ndarray, p: np.ndarra
                 dLP_in[np.searchsorted(ib, cells)] += wt * dLPj
                 dLP += _owner_bincount(wt * dLPj, own[cells], owners)
             tests.rate.ravel()[owners] = dLP / area
+            weights.append((owners, area))
+    # δL/δA and δL_P/δA as ratios of sums along the front, as the balance is
+    g_val = _average_rates(tests, weights, g_idx, g_val)
+    tests.g_close = (g_idx, g_val - tests.rate.ravel()[g_idx])
     tests.dLP_band = (dLP_out, dLP_in)
     tests.pending = None
     return tests
+
+
+def _average_rates(tests, weights, g_idx, g_val):
+    """δL_P/δA of each front cell (``tests.rate``, in place) and δL/δA of the outer front
+    cells ``g_idx`` (``g_val``, returned) as ratios of sums along the front — Σ δL_P / Σ δA
+    over the front cells within the average's σ, the balance's average
+    (``along_front.front_average``) — in place of the per-owner ratios, whose plain mean
+    along a curved front is biased: a staircase corner owns a fan of band cells reaching
+    a0 deep, the cells of a flat run only shallow rows (docs/theory.md, "Release rates
+    along the front").  ``weights``: (owners, band areas) of each test.  Tests without an
+    average along the front keep the per-owner ratios."""
+    if tests.smoothing is None:
+        return g_val
+    sigma, per_radius = tests.smoothing
+    W = np.zeros(tests.rate.shape)
+    for owners, area in weights:
+        W.ravel()[owners] = area
+    valid = np.isfinite(tests.rate)
+    W[~valid] = 0.0
+    front_average(tests.bands, tests.rate, W, sigma, per_radius)
+    tests.rate[~valid] = np.nan  # an owner whose split failed stays unknown
+    g = np.full(W.shape, np.nan)
+    g.ravel()[g_idx] = g_val
+    front_average(tests.bands, g, W, sigma, per_radius)
+    return g.ravel()[g_idx]
 
 
 def _owner_bincount(values, owner, owners):

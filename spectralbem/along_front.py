@@ -13,8 +13,11 @@ from . import kernels
 from .front import front_length_weights
 
 __all__ = ["band_widths", "layer_weights", "upper_band", "patch_sigmas", "walk_step",
-           "smooth_along_front", "WIDTH_SMOOTHING", "WIDTH_RANGE"]
+           "smooth_along_front", "front_average", "WIDTH_SMOOTHING", "WIDTH_RANGE",
+           "FRONT_GRAPH"]
 
+#: average along the front graph (True) or with a grid Gaussian restricted to front cells
+FRONT_GRAPH = True
 #: the effective band widths are averaged along the front over at least this many cells
 WIDTH_SMOOTHING = 2.0
 #: ... and kept within these multiples of a0 (a front cell's band is a0 wide on a straight
@@ -261,3 +264,26 @@ def _smooth_on_front_graph(F, front, sigma, weights, normal, out=None) -> np.nda
         out.ravel()[fidx] = np.nan
     out.ravel()[idx] = val
     return out
+
+
+def front_average(b, F, W, sigma: float, per_radius: float, normal=None):
+    """A per-owner ratio F = Σ num / Σ den of the front tests (the balance, δL_P/δA) on the
+    closing (outer front cells of ``F``) and opening (inner front cells) sides averaged
+    along their fronts as a ratio of sums, each front cell weighing by its band's ``W``
+    (Δγ·area, or area), with the per-patch σ (cells) of :func:`patch_sigmas`; in place of
+    ``F``, nan off the front (each side's average reads its own cells only).
+
+    The ratio of sums matters on curved digital fronts: the owners of a band (the nearest
+    front cell of each band cell) are unequal — a staircase corner owns a fan reaching a0
+    deep, the cells of a flat run only shallow rows — so the per-owner ratios of a
+    quantity that varies across the band scatter and their plain mean is biased, the more
+    the more cells a0 spans (docs/theory.md, "Release rates along the front")."""
+    sig_out, sig_in = patch_sigmas(b.mask, b.outer_front, b.inner_front, sigma, per_radius)
+    if not FRONT_GRAPH:
+        normal = None
+    elif normal is None:
+        normal = b.normal
+    for front, sig in ((b.outer_front, sig_out), (b.inner_front, sig_in)):
+        smooth_along_front(F, front, sig, W, normal, out=F)  # each side reads its own cells
+    F[~(b.outer_front | b.inner_front)] = np.nan
+    return F

@@ -36,9 +36,8 @@ from scipy import ndimage
 from .adjoint import complete_adjoint
 from .along_front import (
     band_widths,
+    front_average,
     layer_weights,
-    patch_sigmas,
-    smooth_along_front,
     upper_band,
 )
 from .band_starts import BandStarts
@@ -74,9 +73,6 @@ def default_smoothing(front_smoothing: float | None, viscoelastic: bool) -> floa
 #: σ = max(FRONT_SMOOTHING a0, SMOOTHING_PER_RADIUS r) for a patch of front radius r
 #: (:func:`patch_sigmas`; measured in docs/performance.md, the adhesive sphere); 0: σ fixed
 SMOOTHING_PER_RADIUS = 0.23
-
-#: average along the front graph (True) or with a grid Gaussian restricted to front cells
-FRONT_GRAPH = True
 
 #: the band tests of the adhesive solve's intermediate states stop their masked solves at
 #: this many times the state's relative tolerance, at most 1e-6 (1e-7 at the default 1e-10);
@@ -139,6 +135,9 @@ class FrontTest:
     #: w and, per colour, the owners, band cells and weights of the closing and opening
     #: tests; None once filled
     pending: dict | None = None
+    #: (σ in cells, σ per front radius) of the average along the front, with which the
+    #: adjoint split's rates are averaged as the balance is (``adjoint.complete_adjoint``)
+    smoothing: tuple | None = None
 
     def _side(self, field_, outer: bool):
         if field_ is None:
@@ -202,22 +201,6 @@ def _sigma_cells(front_smoothing: float, a0: float, hmin: float, shape) -> float
     """σ in cells from σ in units of a0, at most half the grid's longer side (a wider
     average is the mean over the front; the walk's cost grows as σ²)."""
     return min(front_smoothing * a0 / hmin, 0.5 * max(shape))
-
-
-def _front_average(b: Bands, F, W, sigma: float, per_radius: float, normal=None):
-    """The closing (outer front cells of ``F``) and opening (inner front cells) balances
-    averaged along their fronts (ratio of sums, each front cell weighing by its band's
-    Δγ·area ``W``), with the per-patch σ of :func:`patch_sigmas`; in place of ``F``, nan
-    off the front (each side's average reads its own cells only)."""
-    sig_out, sig_in = patch_sigmas(b.mask, b.outer_front, b.inner_front, sigma, per_radius)
-    if not FRONT_GRAPH:
-        normal = None
-    elif normal is None:
-        normal = b.normal
-    for front, sig in ((b.outer_front, sig_out), (b.inner_front, sig_in)):
-        smooth_along_front(F, front, sig, W, normal, out=F)  # each side reads its own cells
-    F[~(b.outer_front | b.inner_front)] = np.nan
-    return F
 
 
 def _owner_sums(values: dict, owner: np.ndarray, owners: np.ndarray, weight, acc: dict
@@ -496,11 +479,12 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     del band_area
     # ratio of sums along the front: each front cell weighs by its band's Δγ·area, so that
     # owners of unequal band patches (staircase corners) do not bias the local balance
-    F = _front_average(b, F, W, sigma, smoothing_per_radius, normal)  # in place
+    F = front_average(b, F, W, sigma, smoothing_per_radius, normal)  # in place
     del normal, W
     F[force_close] = -np.inf
     out = FrontTest(F, g_band, closing, opening, cols, b, tester.solves, bool(tester.ok),
-                    tester.msg, width, pending=pending)
+                    tester.msg, width, pending=pending,
+                    smoothing=(sigma, smoothing_per_radius))
     return complete_adjoint(out, op, mask, p, rtol) if adjoint else out
 
 
@@ -565,6 +549,6 @@ def predictor_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np
         _balance(dL, cells, own, _dg_area(dg, area, cells), F, W)
     sigma = _sigma_cells(default_smoothing(front_smoothing, op.viscoelastic), a0, hmin,
                          mask.shape)
-    F = _front_average(b, F, W, sigma, smoothing_per_radius)
+    F = front_average(b, F, W, sigma, smoothing_per_radius)
     return FrontTest(F, g_band, {}, {}, [np.ones(mask.shape, bool)],
                      b, 0, True, "predictor (no solves)")

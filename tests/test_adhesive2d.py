@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import spectralbem as sb
+from spectralbem import along_front as af
 from spectralbem import reference as ref
 from spectralbem import sinusoid1d as s1
 from spectralbem.adhesive import solve_adhesive
@@ -296,8 +297,8 @@ def test_front_smoothing_is_a_length_in_units_of_a0(monkeypatch, n, a0_cells):
     from spectralbem import criterion as cr
 
     seen = []
-    real = cr.patch_sigmas
-    monkeypatch.setattr(cr, "patch_sigmas",
+    real = af.patch_sigmas
+    monkeypatch.setattr(af, "patch_sigmas",
                         lambda *a, **k: seen.append(a[3]) or real(*a, **k))
     cell = Cell(1.0, 1.0, n, n)
     op = SpectralOperator(cell, Elastic(1.0, 0.0))
@@ -312,7 +313,7 @@ def test_front_smoothing_is_a_length_in_units_of_a0(monkeypatch, n, a0_cells):
 
 
 def test_front_smoothing_grows_with_the_patch_and_stays_on_it():
-    """criterion.patch_sigmas: σ = max(σ0, c·r) per patch (r = 2A/P, a disc's radius, in
+    """along_front.patch_sigmas: σ = max(σ0, c·r) per patch (r = 2A/P, a disc's radius, in
     cells), and smooth_along_front averages each σ group over its own front cells only."""
     from spectralbem import criterion as cr
 
@@ -322,7 +323,7 @@ def test_front_smoothing_grows_with_the_patch_and_stays_on_it():
     small = np.hypot(X - 175, Y - 128) < 10  # 5 cells of gap to the big disc
     mask = big | small
     outer, inner = cr.front_cells(mask)
-    s_out, s_in = cr.patch_sigmas(mask, outer, inner, 6.0, 0.23)
+    s_out, s_in = af.patch_sigmas(mask, outer, inner, 6.0, 0.23)
     r_big = 60.0
     sig_in = np.zeros(mask.shape)
     sig_in.ravel()[s_in["cells"]] = s_in["sigma"]
@@ -336,23 +337,23 @@ def test_front_smoothing_grows_with_the_patch_and_stays_on_it():
     # F = 1 on the small patch's front, 2 on the big one's: per-group averages keep them
     # apart exactly, one common σ of 13.8 cells would mix them across the 5-cell gap
     F = np.where(inner & big, 2.0, np.where(inner & small, 1.0, np.nan))
-    sm = cr.smooth_along_front(F, inner, s_in)
+    sm = af.smooth_along_front(F, inner, s_in)
     assert np.allclose(sm[inner & small], 1.0) and np.allclose(sm[inner & big], 2.0)
-    mixed = cr.smooth_along_front(F, inner, 0.23 * r_big)
+    mixed = af.smooth_along_front(F, inner, 0.23 * r_big)
     assert mixed[inner & small].max() > 1.05
     # switched off, or all patches small: one scalar σ
-    assert cr.patch_sigmas(mask, outer, inner, 6.0, 0.0) == (6.0, 6.0)
-    assert cr.patch_sigmas(small, *cr.front_cells(small), 6.0, 0.23) == (6.0, 6.0)
+    assert af.patch_sigmas(mask, outer, inner, 6.0, 0.0) == (6.0, 6.0)
+    assert af.patch_sigmas(small, *cr.front_cells(small), 6.0, 0.23) == (6.0, 6.0)
     # a convoluted patch of large area (a comb: 60 teeth one cell wide) keeps σ0
     comb = np.zeros((n, n), bool)
     comb[20:200, 10:250:4] = True
     comb[20:22, 10:250] = True
     assert comb.sum() > big.sum() / 2
-    assert cr.patch_sigmas(comb, *cr.front_cells(comb), 6.0, 0.23) == (6.0, 6.0)
+    assert af.patch_sigmas(comb, *cr.front_cells(comb), 6.0, 0.23) == (6.0, 6.0)
     # so does a wide strip across a thin cell (a y-invariant sinusoid's contact, N × 2)
     strip = np.zeros((4096, 2), bool)
     strip[1000:3000] = True
-    assert cr.patch_sigmas(strip, *cr.front_cells(strip), 6.0, 0.23) == (6.0, 6.0)
+    assert af.patch_sigmas(strip, *cr.front_cells(strip), 6.0, 0.23) == (6.0, 6.0)
 
 
 def test_predictor_is_modified_vcct_on_a_straight_front():
@@ -533,11 +534,11 @@ def test_the_average_along_the_front_in_place_equals_the_fresh_one():
     F = rng.random(mask.shape)
     F[b.inner_front & (X > 60)] = np.nan  # front cells without a value
     W = rng.random(mask.shape) + 0.5
-    s_out, s_in = cr.patch_sigmas(mask, b.outer_front, b.inner_front, 3.0, 0.23)
+    s_out, s_in = af.patch_sigmas(mask, b.outer_front, b.inner_front, 3.0, 0.23)
     for front, sig in ((b.outer_front, s_out), (b.inner_front, s_in), (b.inner_front, 2.5)):
-        fresh = cr.smooth_along_front(F, front, sig, W, b.normal)
+        fresh = af.smooth_along_front(F, front, sig, W, b.normal)
         inplace = F.copy()
-        cr.smooth_along_front(inplace, front, sig, W, b.normal, out=inplace)
+        af.smooth_along_front(inplace, front, sig, W, b.normal, out=inplace)
         assert np.array_equal(inplace[front], fresh[front], equal_nan=True)
         assert np.array_equal(inplace[~front], F[~front], equal_nan=True)
         assert np.isfinite(fresh[front]).sum() > 0.5 * front.sum()

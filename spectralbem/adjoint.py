@@ -51,14 +51,14 @@ def complete_adjoint(tests, op: SpectralOperator, mask: np.ndarray, p: np.ndarra
         psi = adjoint_weights(op, mask, p, rtol).ravel()
         tests.solves += 1
     own = tests.bands.outer_owner.ravel()
-    for owners, bands_, dL, area in pend["close"]:
+    for owners, bands_, dg_area, area in pend["close"]:
         dLP = np.zeros(owners.size)
         for cells, wt, apD in bands_ if psi is not None else ():
             dLPj = apD * psi[cells]
             dLP_out[np.searchsorted(ob, cells)] += wt * dLPj
             dLP += _owner_bincount(wt * dLPj, own[cells], owners)
         g_idx.append(owners)
-        g_val.append(dL / area)
+        g_val.append(dg_area / area)  # each owner's mean Δγ
         tests.rate.ravel()[owners] = dLP / area
         weights.append((owners, area))
     del psi  # freed before the opening bands' solves
@@ -88,37 +88,35 @@ def complete_adjoint(tests, op: SpectralOperator, mask: np.ndarray, p: np.ndarra
                 dLP += _owner_bincount(wt * dLPj, own[cells], owners)
             tests.rate.ravel()[owners] = dLP / area
             weights.append((owners, area))
-    # δL/δA and δL_P/δA as ratios of sums along the front, as the balance is
-    g_val = _average_rates(tests, weights, g_idx, g_val)
-    tests.g_close = (g_idx, g_val - tests.rate.ravel()[g_idx])
+    _average_rates(tests, weights)
+    # G_close = δL/δA − δL_P/δA, both ratios of sums along the front: the balance F is
+    # Σ δL / Σ Δγ a − 1 averaged so, δL/δA = Δγ (1 + F)
+    tests.g_close = (g_idx, g_val * (1.0 + tests.F.ravel()[g_idx]) - tests.rate.ravel()[g_idx])
     tests.dLP_band = (dLP_out, dLP_in)
     tests.pending = None
     return tests
 
 
-def _average_rates(tests, weights, g_idx, g_val):
-    """δL_P/δA of each front cell (``tests.rate``, in place) and δL/δA of the outer front
-    cells ``g_idx`` (``g_val``, returned) as ratios of sums along the front — Σ δL_P / Σ δA
-    over the front cells within the average's σ, the balance's average
-    (``along_front.front_average``) — in place of the per-owner ratios, whose plain mean
-    along a curved front is biased: a staircase corner owns a fan of band cells reaching
-    a0 deep, the cells of a flat run only shallow rows (docs/theory.md, "Release rates
-    along the front").  ``weights``: (owners, band areas) of each test.  Tests without an
-    average along the front keep the per-owner ratios."""
+def _average_rates(tests, weights) -> None:
+    """δL_P/δA of each front cell (``tests.rate``, in place) as a ratio of sums along the
+    front — Σ δL_P / Σ δA over the front cells within the average's σ, the balance's
+    average (``along_front.front_average``) — in place of the per-owner ratios, whose plain
+    mean along a curved front is biased: a staircase corner owns a fan of band cells
+    reaching a0 deep, the cells of a flat run only shallow rows (docs/theory.md, "Release
+    rates along the front").  ``weights``: (owners, band areas) of each test.  Tests
+    without an average along the front keep the per-owner ratios."""
     if tests.smoothing is None:
-        return g_val
+        return
     sigma, per_radius = tests.smoothing
-    W = np.zeros(tests.rate.shape)
-    for owners, area in weights:
-        W.ravel()[owners] = area
     valid = np.isfinite(tests.rate)
-    W[~valid] = 0.0
-    front_average(tests.bands, tests.rate, W, sigma, per_radius)
+    cells = np.concatenate([o for o, _ in weights] or [np.zeros(0, int)])
+    area = np.concatenate([a for _, a in weights] or [np.zeros(0)])
+    order = np.argsort(cells, kind="stable")
+    cells, area = cells[order], area[order]
+    area[~valid.ravel()[cells]] = 0.0
+    # the weights packed on the owners: no N² array of them
+    front_average(tests.bands, tests.rate, (cells, area), sigma, per_radius)
     tests.rate[~valid] = np.nan  # an owner whose split failed stays unknown
-    g = np.full(W.shape, np.nan)
-    g.ravel()[g_idx] = g_val
-    front_average(tests.bands, g, W, sigma, per_radius)
-    return g.ravel()[g_idx]
 
 
 def _owner_bincount(values, owner, owners):

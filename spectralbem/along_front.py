@@ -165,12 +165,17 @@ def smooth_along_front(F: np.ndarray, front: np.ndarray, sigma,
     or per-cell values from :func:`patch_sigmas` (each group of front cells with the same σ
     is averaged over itself only).  With the front's unit ``normal`` the average runs along
     the front itself (:func:`_smooth_on_front_graph`: never across a gap, a neck or to another
-    patch); without it, a Gaussian over the grid restricted to front cells.  ``out`` (with
-    ``normal``): the array whose ``front`` cells receive the average (nan where there is
-    none), which may be F itself; the other cells are left as they are.
+    patch); without it, a Gaussian over the grid restricted to front cells.  ``weights``: an
+    N² array or packed, (sorted flat cells, values).  ``out`` (with ``normal``): the array
+    whose ``front`` cells receive the average (nan where there is none), which may be F
+    itself; the other cells are left as they are.
     """
     if normal is not None and (isinstance(sigma, dict) or sigma > 0):
         return _smooth_on_front_graph(F, front, sigma, weights, normal, out)
+    if isinstance(weights, tuple):  # packed (cells, values): the grid average reads N²
+        full = np.zeros(F.shape)
+        full.ravel()[weights[0]] = weights[1]
+        weights = full
     if isinstance(sigma, dict):
         res = np.full(F.shape, np.nan)
         for s_ in np.unique(sigma["sigma"]):
@@ -213,6 +218,16 @@ def walk_step(rows: np.ndarray, cols: np.ndarray, n: int):
     return step
 
 
+def _at(values, idx) -> np.ndarray:
+    """``values`` at the flat cells ``idx``: an N² array, or packed as (sorted flat cells,
+    values), 0 at cells it does not list."""
+    if not isinstance(values, tuple):
+        return values.ravel()[idx].astype(float)
+    cells, v = values
+    slot = np.minimum(np.searchsorted(cells, idx), max(cells.size - 1, 0))
+    return np.where(cells[slot] == idx, v[slot], 0.0) if cells.size else np.zeros(idx.size)
+
+
 def _smooth_on_front_graph(F, front, sigma, weights, normal, out=None) -> np.ndarray:
     """Weighted average of F along the front graph: the front cells (finite F, and a σ)
     joined to their 8-neighbours on the front whose normals agree (n_i·n_j > 0, so the two
@@ -249,7 +264,7 @@ def _smooth_on_front_graph(F, front, sigma, weights, normal, out=None) -> np.nda
         cols.append(k[sel])
     del pos
     step = walk_step(np.concatenate(rows), np.concatenate(cols), n)
-    w = np.ones(n) if weights is None else weights.ravel()[idx].astype(float)
+    w = np.ones(n) if weights is None else _at(weights, idx)
     Fi = F.ravel()[idx]
     num, den = w * Fi, w.copy()
     steps = np.rint(2 * np.maximum(sig, 0.0) ** 2).astype(np.int64)

@@ -450,7 +450,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             has = acc["dg"] > 0
             balances.append((owners, acc))
             pending["close"].append((owners[has], [(c, wt, apD) for _, c, wt, apD in runs],
-                                     acc["dL"][has], acc["area"][has]))
+                                     acc["dg"][has], acc["area"][has]))
         band = (own_i >= 0) & col_flat[np.maximum(own_i, 0)]
         if band.any():
             owners, acc, opening[ci], runs = _side_tests(

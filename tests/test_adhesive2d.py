@@ -523,7 +523,8 @@ def test_viscoelastic_adhesive_friction_is_the_profile_force_at_the_front():
 def test_the_average_along_the_front_in_place_equals_the_fresh_one():
     """smooth_along_front(..., out=F) (the front tests average F and the band widths over
     one array: no N² copy) writes the same values on the front cells as the fresh result,
-    nan where there is no average, and leaves every other cell as it was."""
+    nan where there is no average, and leaves every other cell as it was; weights packed on
+    the front cells (the release rates' band areas) give the same average as on the grid."""
     from spectralbem import criterion as cr
 
     n = 96
@@ -542,6 +543,9 @@ def test_the_average_along_the_front_in_place_equals_the_fresh_one():
         assert np.array_equal(inplace[front], fresh[front], equal_nan=True)
         assert np.array_equal(inplace[~front], F[~front], equal_nan=True)
         assert np.isfinite(fresh[front]).sum() > 0.5 * front.sum()
+        cells = np.flatnonzero(front)  # the weights packed on the front cells: the same
+        packed = af.smooth_along_front(F, front, sig, (cells, W.ravel()[cells]), b.normal)
+        assert np.array_equal(packed[front], fresh[front], equal_nan=True)
 
 
 def test_crack_tip_length_is_the_part_of_the_front_not_held_by_contact():

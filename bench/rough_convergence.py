@@ -46,6 +46,17 @@ A0 = 7.8125e-6
 #: the side L of the case's square cell (m): a0 in cells and areas per front length from it
 SIDE = float(read_scene_file(CASE)["grid"]["Lx"])
 KEYS = ("area_fraction", "mean_gap", "mu", "mu_adhesive", "G1", "G2")
+#: the release rates' definition of the runs recorded now: δL_P/δA a ratio of sums along the
+#: front (docs/theory.md, "Release rates along the front"); viscoelastic rows without it have
+#: each front cell's own band's ratio (biased on curved fronts): their G1, G2, μ_a are marked
+#: and not compared with the others'
+RATES = "ratio_of_sums"
+RATE_KEYS = ("G1", "G2", "mu_adhesive")
+
+
+def _old_rates(r: dict) -> bool:
+    """A viscoelastic row whose G1, G2, μ_a are the per-owner ratios of before."""
+    return r["material"] != "elastic" and r.get("release_rates") != RATES
 MATERIALS = {
     "elastic": {"kind": "elastic", "E": 1e6, "nu": 0.5},  # resting slab: no motion needed
     "sls": None,  # the case file's
@@ -112,6 +123,7 @@ def run_one(n: int, material: str, a0: float, sigma: float | None,
             else float("nan"))
     return dict(N=n, material=material, a0=a0, sigma=sigma, cpu=cpu, steps=steps,
                 hysteresis=hyst, coarse_start=coarse, loading_only=loading_only,
+                release_rates=RATES,
                 front_tol=front_tol, extrapolate_a0=extrapolate,
                 delayed_kernel=None if material == "elastic" else delayed)
 
@@ -264,14 +276,19 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
                   "G2/Δγ | crack tips (mm) | CPU s |",
                   "|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in rs:
+            m = "†" if _old_rates(r) else ""
             for k, st in enumerate(r["steps"]):
                 name = ("load 1e4", "load 3e4", "unload 1e4")[k]
                 lines.append(
                     f"| {r['N']} | {name} | {st['status']} | {st['balanced_fraction']:.3f} | "
                     f"{st['area_fraction']:.4f} | {st['mean_gap'] * 1e6:.4f} | "
-                    f"{st['mu']:.4g} | {st['mu_adhesive']:.3g} | {st['G1'] / 0.01:.3f} | "
-                    f"{st['G2'] / 0.01:.3f} | {_mm(st.get('crack_tip_length'))} | "
+                    f"{st['mu']:.4g} | {st['mu_adhesive']:.3g}{m} | {st['G1'] / 0.01:.3f}{m} | "
+                    f"{st['G2'] / 0.01:.3f}{m} | {_mm(st.get('crack_tip_length'))} | "
                     f"{r['cpu'] if k == 0 else 0:.0f} |")
+        if any(_old_rates(r) for r in rs):
+            lines += ["", "† each front cell's own band's δL_P/δA (recorded before the release "
+                      "rates were ratios of sums along the front): not compared with the "
+                      "others'."]
         lines.append("")
         if len(rs) >= 3:
             lines += ["Observed order p and Richardson estimate of the relative error at each N "
@@ -286,6 +303,8 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
                 for key in keys:
                     vals = [r["steps"][k][key] for r in rs]
                     if max(abs(v) for v in vals) < 1e-12:  # zero to round-off (elastic μ)
+                        continue
+                    if key in RATE_KEYS and any(_old_rates(r) for r in rs[-3:]):
                         continue
                     if not all(_verified(r, k) for r in rs[-3:]):
                         lines.append(f"| {key} ({name}) | unverified state | | "
@@ -427,6 +446,8 @@ def _pair_table(rs: list, pair=(256, 512)) -> list:
             x, y = a["steps"][k][key], b["steps"][k][key]
             if not (_verified(a, k) and _verified(b, k)):
                 cells.append("unverified")
+            elif key in RATE_KEYS and (_old_rates(a) or _old_rates(b)):
+                cells.append("—†" if _old_rates(a) != _old_rates(b) else "† only")
             elif max(abs(x), abs(y)) < 1e-12:
                 cells.append("0 (both)")
             else:

@@ -31,7 +31,8 @@ import numpy as np
 
 from .contact import sliding_direction
 
-__all__ = ["front_outputs", "release_rates", "patch_labels", "small_patch_diameter"]
+__all__ = ["front_outputs", "sub_cell_area", "release_rates", "patch_labels",
+           "small_patch_diameter"]
 
 
 def front_length_weights(normal, hx: float, hy: float) -> np.ndarray:
@@ -149,6 +150,21 @@ def release_rates(op, tests, where, dgamma, ds=None, offset_out=None, a0=None):
     return G, avg[0], avg[1]
 
 
+def sub_cell_area(r, cell, ds=None) -> float:
+    """The area (m²) inside the balanced sub-cell front of the adhesive result ``r`` (its
+    last front test): the mask's area plus Σ offset·ds over the outer front cells of the
+    resolved patches, each offset within ±a0 (an unresolved patch counts with its mask);
+    ``ds``: the outer front cells' lengths (packed), computed when not given."""
+    b = r.tests.bands
+    io = np.flatnonzero(b.outer_front)
+    if ds is None:
+        ds = front_length_weights(b.outer_normal(), cell.hx, cell.hy)
+    ok = b.outer_front & (r.resolved if r.resolved is not None else True)
+    s = r.offset_out.ravel()[io]
+    s = np.clip(np.where(ok.ravel()[io] & np.isfinite(s), s, 0.0), -r.a0, r.a0)
+    return float(r.contact.sum() * cell.cell_area + np.sum(s * ds))
+
+
 def front_outputs(op, r, dgamma) -> dict:
     """The sub-cell front's outputs of the adhesive result ``r`` (see the module docstring):
     area (m²), area_fraction, front_length (m), crack_tip_length (m: the part of the front
@@ -165,10 +181,7 @@ def front_outputs(op, r, dgamma) -> dict:
     ds = np.zeros(cell.shape)  # the weights on the grid, where release_rates reads them
     ds.ravel()[io] = ds_p
     ok = b.outer_front & (r.resolved if r.resolved is not None else True)
-    s = r.offset_out.ravel()[io]
-    s = np.clip(np.where(ok.ravel()[io] & np.isfinite(s), s, 0.0), -r.a0, r.a0)
-    area = float(r.contact.sum() * cell.cell_area + np.sum(s * ds_p))
-    del s
+    area = sub_cell_area(r, cell, ds_p)
     dg = np.broadcast_to(np.asarray(dgamma, float), cell.shape)
     edge = ok & np.isfinite(t.dLP_rate)
     length = float(np.sum(ds[edge]))

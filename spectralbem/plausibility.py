@@ -124,10 +124,14 @@ def _a0_cells_elastic(scene) -> list[str]:
     cells = scene.a0 / min(scene.cell.hx, scene.cell.hy)
     if cells <= A0_CELLS_ELASTIC:
         return []
+    moves = ("with the edge extrapolated to a0 → 0 (solver.extrapolate_a0, the default "
+             "here) the rough case of docs/rough_convergence.md reads 0.1-2 % more area at 4-8 "
+             "cells than at one" if scene.extrapolate_a0 else
+             "the rough case of docs/rough_convergence.md reads 4 % less area at 4 cells than "
+             "at one, 6 % at 8 cells (solver.extrapolate_a0 = true removes most of it)")
     return [f"adhesion.a0: {scene.a0:.4g} m spans {cells:.3g} cells in an elastic scene "
             f"(warned above {A0_CELLS_ELASTIC:g}): a0 is numerical here and the answer moves "
-            "with it (the rough case of docs/rough_convergence.md: 4 % less area at 4 cells "
-            "than at one, 6 % at 8 cells), and the front may wander without converging "
+            f"with it ({moves}), and the front may wander without converging "
             "(solver.front_tol = a0/(8h) converges there); one cell is the most accurate "
             "(docs/theory.md)"]
 

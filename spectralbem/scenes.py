@@ -92,6 +92,19 @@ class Scene:
         return bool(np.any(np.asarray(self.dgamma) > 0))
 
     @property
+    def extrapolate_a0(self) -> bool:
+        """``solver.extrapolate_a0`` as the solve uses it: the scene's value, else (the
+        default) on in an adhesive elastic grid scene whose a0 spans two cells or more, where
+        a0 is numerical and the edge's a0² term would otherwise move the answer with it
+        (docs/theory.md, "Extrapolating the elastic edge"), off everywhere else."""
+        value = self.solver.get("extrapolate_a0")
+        if value is not None:
+            return bool(value)
+        elastic = self.material.is_elastic or not np.any(np.asarray(self.velocity) != 0)
+        return (self.model == "grid2d" and self.adhesive and elastic
+                and extrapolable(self.a0 / min(self.cell.hx, self.cell.hy)))
+
+    @property
     def steps(self) -> list:
         """Control values of the path (one entry for a single state)."""
         if self.control:

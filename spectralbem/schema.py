@@ -179,7 +179,8 @@ SECTIONS = {
         "extrapolate_a0": _k("boolean", "adhesive elastic 2D scenes with a0 of two cells or "
                              "more: the sharp-crack edge from the tests at a0 and a0/2, "
                              "extrapolated to a0 → 0 (Richardson; twice the band solves, "
-                             "docs/theory.md)", default=False),
+                             "docs/theory.md); default: on in those scenes (a0 is "
+                             "numerical there), off elsewhere", default=None),
     },
     "output": {
         "fields": _k("boolean", "store the 2D fields (pressure, gap, ...) in the dataset",

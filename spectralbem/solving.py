@@ -176,6 +176,16 @@ def _solve_seed_grid(scene: Scene, mask0=None, progress=None):
 
 
 # -- physical scenes -------------------------------------------------------------------------
+def _spec_as_solved(scene: Scene) -> dict:
+    """The scene mapping of the dataset, with the defaults a scene decides (None in the
+    schema) as the solve took them: ``solver.extrapolate_a0`` of an adhesive grid scene."""
+    solver = scene.spec.get("solver")
+    if solver is None or solver.get("extrapolate_a0") is not None or not scene.adhesive \
+            or scene.model != "grid2d":
+        return scene.spec
+    return dict(scene.spec, solver=dict(solver, extrapolate_a0=scene.extrapolate_a0))
+
+
 def _operator(scene: Scene) -> SpectralOperator:
     return SpectralOperator(scene.cell, scene.material, scene.layer, velocity=scene.velocity,
                             threads=scene.solver["threads"],
@@ -202,7 +212,7 @@ def _grid_state(scene: Scene, op: SpectralOperator, mask0=None, progress=None,
                           front_tol=solver.get("front_tol", FRONT_TOL),
                           flaw_radius=scene.flaw_radius, progress=progress,
                           coarse_start=solver.get("coarse_start", False),
-                          extrapolate_a0=solver.get("extrapolate_a0", False))
+                          extrapolate_a0=scene.extrapolate_a0)
 
 
 def _adhesiveless_mask(op, scene: Scene):
@@ -515,7 +525,7 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
         created_utc=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
         fft_backend=fft.backend(), fft_threads=int(scene.solver["threads"]),
         fft_planner=fft.planner() if fft.backend() == "pyfftw" else "numpy",
-        scene=json.dumps(scene.spec, sort_keys=True, default=str),
+        scene=json.dumps(_spec_as_solved(scene), sort_keys=True, default=str),
         conventions="spectralbem.conventions: SI units; u into the slab, p compressive "
                     "positive; seed Fourier convention (Im E < 0 for ω > 0)")
     warn(scene, ds)

@@ -579,6 +579,50 @@ def test_crack_tip_length_is_the_part_of_the_front_not_held_by_contact():
     assert ds.G1.item() == ds.G2.item() == ds.mu_adhesive.item() == 0.0
 
 
+def test_extrapolated_edge_does_not_follow_the_mask_on_a_rough_surface(monkeypatch):
+    """Lattice trapping of the sub-cell edge: the mask stands within a cell of the balanced
+    edge, on the side the front came from, and the reported edge must not depend on where.
+    Rough elastic case of docs/rough_convergence.md at 256² (a0 = 2 cells), loading state
+    at 1e4 Pa with the default edge (extrapolated to a0 → 0): its balanced sub-cell front
+    re-digitised a quarter cell further in and further out (the cells whose centres lie
+    inside the level set of the front shifted by ∓h/4), each mask tested once at the state's
+    Δ without moving.  The reported area moves by at most 0.1 of the mask's area change
+    (measured −0.003 inward, +0.04 outward; the edge of the a0 tests alone follows the inward
+    shift by 0.43, a one-off measurement: K taken as linear over 2a0 curves on these
+    fronts, docs/theory.md)."""
+    from pathlib import Path
+
+    from spectralbem import adhesive, coarse, front, solving
+    from spectralbem.scenes import load_scene, read_scene_file
+
+    case = Path(__file__).parents[1] / "cases" / "rough_convergence.toml"
+    raw = read_scene_file(case)
+    raw["material"] = {"kind": "elastic", "E": 1e6, "nu": 0.5}
+    raw.pop("motion")
+    raw["control"] = {"mean_pressure": 1e4}
+    scene = load_scene(raw, base_dir=case.parent, overrides={"adhesion.a0": 2e-3 / 256})
+    assert scene.extrapolate_a0
+    op, cell = solving._operator(scene), scene.cell
+    kw = dict(extrapolate_a0=True, **solving._smoothing(scene))
+    r = solve_adhesive(op, scene.heights, scene.dgamma, scene.a0, mean_pressure=1e4, **kw,
+                       mask0=sb.solve(scene).contact.values.astype(bool))
+    assert r.status == "partial", r.message
+    phi = coarse._level_set(r, (cell.hx, cell.hy))
+    still = np.zeros(cell.shape, bool)
+    monkeypatch.setattr(adhesive._FrontIteration, "_moves", lambda *a: (still, still))
+    monkeypatch.setattr(adhesive._FrontIteration, "_nucleate", lambda *a: False)
+    area = {}
+    for t in (0.0, 0.25, -0.25):
+        mask = phi > t * cell.hx
+        tested = solve_adhesive(op, scene.heights, scene.dgamma, scene.a0, mask0=mask,
+                                penetration=r.penetration, max_outer=1, **kw)
+        area[t] = (mask.sum() * cell.cell_area, front.sub_cell_area(tested, cell))
+    for t in (0.25, -0.25):
+        dm, da = area[t][0] - area[0.0][0], area[t][1] - area[0.0][1]
+        assert abs(dm) > 2e-3 * cell.Lx * cell.Ly, (t, dm)  # the masks do differ
+        assert abs(da) <= 0.1 * abs(dm), (t, da / dm)
+
+
 def test_extrapolated_elastic_edge_does_not_move_with_a0_on_a_rough_surface():
     """Rough elastic case of docs/rough_convergence.md (the physical surface, E = 1 MPa,
     Δγ = 0.01 J/m², loading at 1e4 Pa) at 256²: a0 is numerical in an elastic scene, so

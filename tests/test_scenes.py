@@ -211,6 +211,33 @@ def test_load_path_jkr_sphere():
     np.testing.assert_allclose(a, a_jkr, atol=1.5 * L / n)
 
 
+def test_extrapolate_a0_default_where_a0_is_numerical():
+    """solver.extrapolate_a0 unset: on in an adhesive elastic 2D scene whose a0 spans two
+    cells or more (a0 is numerical there, docs/theory.md), off at one cell, in a sliding
+    viscoelastic scene (a0 physical) and without adhesion; a value given wins; the
+    dataset's scene records the edge the solve used."""
+    import json
+
+    L, n = 1e-3, 128
+    raw = {"grid": {"Lx": L, "Ly": L, "Nx": n, "Ny": n},
+           "surface": {"kind": "paraboloid", "radius": 1e-3},
+           "material": {"kind": "elastic", "E": 1e6},
+           "adhesion": {"dgamma": 0.05, "a0": 2 * L / n},
+           "control": {"mean_pressure": 500.0}}
+    assert load_scene(raw).extrapolate_a0
+    assert not load_scene(raw, overrides={"adhesion.a0": L / n}).extrapolate_a0
+    assert not load_scene(raw, overrides={"solver.extrapolate_a0": False}).extrapolate_a0
+    assert not load_scene(raw, overrides={"adhesion.dgamma": 0.0}).extrapolate_a0
+    sls = dict(raw, material={"kind": "sls", "E0": 1e6, "Einf": 1e7, "tau": 1e-2})
+    assert not load_scene(dict(sls, motion={"speed": 1e-3})).extrapolate_a0
+    assert load_scene(sls).extrapolate_a0  # at rest the solid responds elastically
+    ds = sb.solve(load_scene(raw))
+    assert ds.status.item() == "partial", ds.attrs["solver_message"]
+    assert json.loads(ds.attrs["scene"])["solver"]["extrapolate_a0"] is True
+    ds = sb.solve(load_scene(raw, overrides={"adhesion.a0": L / n}))
+    assert json.loads(ds.attrs["scene"])["solver"]["extrapolate_a0"] is False
+
+
 def test_path_step_that_fails_is_retried_in_sub_steps(monkeypatch):
     """A path step of an adhesive grid scene that ends not_converged from a partial state is
     solved again from that state, each failing step halved (solving.SUBSTEP_HALVINGS = 3

@@ -265,11 +265,11 @@ def test_bit_identical_across_processes():
 
 
 @pytest.mark.xfail(strict=True, reason=(
-    "known defect: the elastic sharp-crack edge (a stress-intensity factor linear over the "
-    "bands) is accurate only while a0 is small against the gap it closes; here a0 = 4 cells "
-    "against a 13-cell gap and the "
-    "solver reports a 'partial' state at ã = 2.99 that Johnson's curve does not have "
-    "(p̃ = -6.4 there). Load-control stability of 2D states is not yet checked."))
+    "known defect: with a0 = 4 cells against a 13-cell gap the solver reports a 'partial' "
+    "state at ã = 2.99 that Johnson's curve does not have (p̃ = -6.4 there), the same state "
+    "with the edge extrapolated to a0 → 0 (the default here) and with the a0 tests' edge "
+    "alone, so the edge estimate is not the cause; load-control stability of 2D states is "
+    "not yet checked."))
 def test_snap_in_to_full_contact_2d():
     """Elastic sinusoid on the grid with Γ = 1 (far beyond Johnson's spontaneous jump-in):
     the solver reports full_contact instead of creeping.  From the initial contact ã = 1 each

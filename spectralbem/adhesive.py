@@ -180,7 +180,8 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     the tests at a0 and at a0/2, extrapolated to a0 → 0 by Richardson's rule, which removes
     the O(a0²) error of a stress-intensity factor taken as linear over the bands (rough
     elastic case at 256²: halving a0 from 2 cells to one moves the area by −0.9 %, +5.1 %
-    without); twice the band solves per test (docs/theory.md).
+    without); twice the band solves per test (docs/theory.md).  Off here unless asked for; a
+    scene turns it on by default where it applies (``Scene.extrapolate_a0``).
 
     Status: ``partial`` only when every resolved front cell is balanced within ``front_tol``
     cells (front.balance_residual) and no pin holds a crack tip beyond the glassy bound

@@ -118,8 +118,7 @@ def _relaxation_length(scene) -> list[str]:
 
 def _a0_cells_elastic(scene) -> list[str]:
     """An elastic 2D adhesive scene whose a0 spans many cells."""
-    elastic = scene.material.is_elastic or not np.any(np.asarray(scene.velocity, float))
-    if not scene.adhesive or not elastic or scene.model != "grid2d":
+    if not scene.adhesive or scene.viscoelastic or scene.model != "grid2d":
         return []
     cells = scene.a0 / min(scene.cell.hx, scene.cell.hy)
     if cells <= A0_CELLS_ELASTIC:

@@ -92,6 +92,12 @@ class Scene:
         return bool(np.any(np.asarray(self.dgamma) > 0))
 
     @property
+    def viscoelastic(self) -> bool:
+        """A rate-dependent solid in motion (the operator's ``viscoelastic``): a0 is then a
+        physical length; at rest, or with an elastic solid, it is numerical."""
+        return not self.material.is_elastic and bool(np.any(np.asarray(self.velocity) != 0))
+
+    @property
     def extrapolate_a0(self) -> bool:
         """``solver.extrapolate_a0`` as the solve uses it: the scene's value, else (the
         default) on in an adhesive elastic grid scene whose a0 spans two cells or more, where
@@ -100,8 +106,7 @@ class Scene:
         value = self.solver.get("extrapolate_a0")
         if value is not None:
             return bool(value)
-        elastic = self.material.is_elastic or not np.any(np.asarray(self.velocity) != 0)
-        return (self.model == "grid2d" and self.adhesive and elastic
+        return (self.model == "grid2d" and self.adhesive and not self.viscoelastic
                 and extrapolable(self.a0 / min(self.cell.hx, self.cell.hy)))
 
     @property

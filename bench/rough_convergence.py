@@ -267,7 +267,11 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "where the 256² path stops 2.4 % (2.0 %) above it, and the 256² state carried "
              "to 512² recedes to the 512² path's state with that edge (one-off solves; "
              "docs/theory.md, \"Rules added for curved fronts and rough surfaces\", "
-             "load-path steps).", "",
+             "load-path steps). With that edge the 256² unloading state also depends on "
+             "the tolerance and the path's steps: 0.3193 and 0.3162 at `front_tol` = 0.5 "
+             "and 0.25 (the tables), 0.3102 and 0.3179 unloaded in steps of 5 kPa "
+             "(one-off), a spread of 2.9 %, where the 512² state reads 0.3024-0.3029 "
+             "(0.2 %): the unloading branch needs 512² here.", "",
              "![refinement](figures/rough_convergence.png)", "",
              "The figure: area fraction, μ and the release rates against N (open markers: "
              "states not verified; dashed: the coarse-grid start; stars and crosses: the "

@@ -33,7 +33,7 @@ __all__ = ["Backend", "get", "register", "names", "LOOPS"]
 
 #: the fused loops every backend provides (:mod:`spectralbem.kernels`)
 LOOPS = ("parseval_sum", "spectrum_step", "direction", "gap_state", "pk_step", "corrections",
-         "merge_set")
+         "merge_set", "scatter")
 
 
 class Backend:
@@ -87,10 +87,9 @@ class Backend:
         """The values of the flat field ``x`` on the cells ``idx`` (packed, a new array)."""
         return x.take(idx)
 
-    @staticmethod
-    def scatter(x: np.ndarray, idx: np.ndarray, values: np.ndarray) -> None:
-        """``x[idx] = values`` on the flat field ``x``, in place."""
-        x.put(idx, values)
+    def scatter(self, x: np.ndarray, idx: np.ndarray, values: np.ndarray) -> None:
+        """``x[idx] = values`` on the flat float64 field ``x``, in place (the loops')."""
+        self.loops.scatter(x, idx, values)
 
 
 def _numpy_loops():

@@ -31,6 +31,8 @@ the summation order, slower).  ``backend()`` tells which is in use.
   contact front (:mod:`spectralbem.along_front`): each front cell's row of the walk's CSR
   matrix applied 2σ² times, all patches' σ groups in one call (as scipy sparse products,
   one Python call per step and group, it was a quarter of the 512² elastic adhesive state).
+* :func:`scatter` — packed values written into a flat field (the masked solves' Krylov
+  products; ``ndarray.put`` has no fast path for it).
 * :func:`periodic_cubic` — the 1D method's viscoelastic kernel remainder: a periodic
   piecewise cubic evaluated at M × Q distances without temporaries (it was 70 % of a 1D
   solve at ζ = 1e-3 as numpy passes).
@@ -137,6 +139,10 @@ def periodic_cubic_numpy(coefs, x, y, lam, inv_dx, guard, out, near_index):
     out.reshape(-1)[:] = c[:, 0] + t * (c[:, 1] + t * (c[:, 2] + t * c[:, 3]))
     near_index[: near.size] = near
     return int(near.size)
+
+
+def scatter_numpy(x, idx, values) -> None:
+    x[idx] = values
 
 
 def front_walk_numpy(indptr, indices, data, steps, num, den) -> None:
@@ -425,6 +431,16 @@ if numba is not None:
         column multiplicities m (length T.shape[1])."""
         return float(_parseval_sum(T, k, m))
 
+    @_jit
+    def _scatter(x, idx, values):  # pragma: no cover - compiled
+        for i in range(idx.size):
+            x[idx[i]] = values[i]
+
+    def scatter(x, idx, values) -> None:
+        """``x[idx] = values`` on a flat float64 field, in place (the masked solves' write of
+        packed values into the FFT input: ndarray.put takes 4.4 times as long at 512²)."""
+        _scatter(x, idx, values)
+
     def spectrum_step(P, D, a, k, s, out) -> None:
         """P ← P + a·D (in place) and out = s·k·P, in one pass (contiguous arrays)."""
         if not (P.flags.c_contiguous and out.flags.c_contiguous):
@@ -442,3 +458,4 @@ else:  # pragma: no cover - the numpy build
     corrections = corrections_numpy
     periodic_cubic = periodic_cubic_numpy
     front_walk = front_walk_numpy
+    scatter = scatter_numpy

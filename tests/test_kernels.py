@@ -299,3 +299,22 @@ def test_front_walk(n, seed, groups):
         xx, yy = x.copy(), y.copy()
         walk(step.indptr, step.indices, step.data, steps_of[group], xx, yy)
         assert np.array_equal(xx, expect_x) and np.array_equal(yy, expect_y)
+
+
+@settings(max_examples=30, deadline=None)
+@given(n=st.integers(1, 300), k=st.integers(0, 300), seed=st.integers(0, 2**31),
+       index32=st.booleans())
+def test_scatter(n, k, seed, index32):
+    """kernels.scatter (the masked solves' write of packed values into the FFT input): the
+    compiled loop and its numpy twin equal ndarray.put on distinct cells in any order, 32- or
+    64-bit indices, and leave every other cell as it was."""
+    rng = np.random.default_rng(seed)
+    idx = rng.permutation(n)[: min(k, n)].astype(np.int32 if index32 else np.int64)
+    values = rng.normal(size=idx.size)
+    x0 = rng.normal(size=n)
+    expect = x0.copy()
+    expect.put(idx, values)
+    for scatter in (kernels.scatter, kernels.scatter_numpy):
+        x = x0.copy()
+        scatter(x, idx, values)
+        assert np.array_equal(x, expect)

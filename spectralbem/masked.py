@@ -19,6 +19,7 @@ scipy's Krylov implementations work on the packed vector of mask values.
 
 from __future__ import annotations
 
+import bisect
 import functools
 from dataclasses import dataclass
 
@@ -154,7 +155,7 @@ class _Basis:
         self.starts = [0]
 
     def _block(self, k: int):
-        i = int(np.searchsorted(self.starts, k, side="right")) - 1
+        i = bisect.bisect_right(self.starts, k) - 1  # (np.searchsorted converts the list)
         return self.blocks[i], k - self.starts[i]
 
     def set(self, k: int, v: np.ndarray) -> None:

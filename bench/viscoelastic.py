@@ -39,13 +39,14 @@ viscoelastic adhesiveless and the adhesive solves (``--figure`` redraws it from 
 FFT threads (default 2, the machine's cores), in wall seconds, from the adhesiveless start
 (the default) and from the coarse-grid start (``solver.coarse_start``), against its
 adhesiveless solve timed alike (section ``adhesive_large``, bench/viscoelastic_large.json);
-``--large-starts`` picks the starts, ``--front-tol`` sets ``solver.front_tol`` (cells), and a
-run replaces only the rows of its own sizes, starts and tolerance.
+``--large-starts`` picks the starts, ``--front-tol`` sets ``solver.front_tol`` (cells),
+``--band-tol`` ``solver.band_tol``, and a run replaces only the rows of its own sizes, starts
+and tolerances.
 
 Usage: python bench/viscoelastic.py [--sizes 256 512 1024 2048] [--runs 3]
        python bench/viscoelastic.py --robustness | --starts | --adhesive [--sizes 128 256 512]
        python bench/viscoelastic.py --large [--sizes 1024 2048] [--threads 2]
-           [--large-starts adhesiveless coarse] [--front-tol F]
+           [--large-starts adhesiveless coarse] [--front-tol F] [--band-tol B]
        python bench/viscoelastic.py --figure
 """
 
@@ -364,14 +365,16 @@ def adhesive_rows(sizes):
 LARGE_STARTS = ("adhesiveless", "coarse")
 
 
-def large_rows(sizes, threads, out: Path, starts=LARGE_STARTS, front_tol=None):
+def large_rows(sizes, threads, out: Path, starts=LARGE_STARTS, front_tol=None,
+               band_tol=None):
     """The viscoelastic adhesive loading state of cases/rough_convergence.toml (1e4 Pa) at
     the large grids with ``threads`` FFT threads, wall seconds, against its adhesiveless
     solve timed alike (the targets: 1024² in 2 min, 2048² in 15 min on 2 cores), from each
     of ``starts``: the adhesiveless solve (the default) and the coarse-grid start
-    (``solver.coarse_start``), at ``front_tol`` cells (None: the default).  Each finished
-    row is merged into ``out`` at once, replacing the row of the same N, start and
-    front_tol of an earlier run; returns all the rows of ``out``."""
+    (``solver.coarse_start``), at ``front_tol`` cells and the band tests' ``band_tol``
+    (None: the defaults).  Each finished row is merged into ``out`` at once, replacing the
+    row of the same N, start, front_tol and band_tol of an earlier run; returns all the rows
+    of ``out``."""
     from spectralbem.scenes import load_scene, solve
 
     case = ROUGH_CASE
@@ -387,6 +390,8 @@ def large_rows(sizes, threads, out: Path, starts=LARGE_STARTS, front_tol=None):
             extra = {"solver.coarse_start": start == "coarse"}
             if front_tol is not None:
                 extra["solver.front_tol"] = front_tol
+            if band_tol is not None:
+                extra["solver.band_tol"] = band_tol
             scene = load_scene(raw, overrides={**ov, **extra}, base_dir=case.parent)
             w, c = time.perf_counter(), time.process_time()
             ds = solve(scene)
@@ -397,7 +402,8 @@ def large_rows(sizes, threads, out: Path, starts=LARGE_STARTS, front_tol=None):
                        area=float(ds["area_fraction"]), mu=float(ds["mu"]),
                        mu_adhesive=float(ds["mu_adhesive"]), G1=float(ds["G1"]),
                        G2=float(ds["G2"]), dgamma=float(raw["adhesion"]["dgamma"]),
-                       front_tol=front_tol, date=time.strftime("%Y-%m-%d"))
+                       front_tol=front_tol, band_tol=band_tol,
+                       date=time.strftime("%Y-%m-%d"))
             rows = [r for r in rows if _large_key(r) != _large_key(row)] + [row]
             rows.sort(key=_large_key)
             out.write_text(json.dumps(rows, indent=1))
@@ -406,16 +412,18 @@ def large_rows(sizes, threads, out: Path, starts=LARGE_STARTS, front_tol=None):
 
 
 def _large_key(r: dict) -> tuple:
-    """A large row's identity: N, front_tol (None, the default, first), start."""
-    ft = r.get("front_tol")
-    return (r["N"], -1.0 if ft is None else ft, LARGE_STARTS.index(r["start"]))
+    """A large row's identity: N, front_tol, band_tol (None, the default, first), start."""
+    ft, bt = r.get("front_tol"), r.get("band_tol")
+    return (r["N"], -1.0 if ft is None else ft, -1.0 if bt is None else bt,
+            LARGE_STARTS.index(r["start"]))
 
 
 def large_markdown(rows) -> str:
-    lines = ["| N² | FFT threads | start | front_tol (cells) | adhesive state (wall s) | its CPU "
+    lines = ["| N² | FFT threads | start | front_tol (cells) | band_tol | adhesive state "
+             "(wall s) | its CPU "
              "s | adhesiveless (wall s) | ratio | status | front iterations | area | μ | μ_a | "
              "G1/Δγ | G2/Δγ | target | measured |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     target = {1024: 120.0, 2048: 900.0}
     for r in rows:
         t = target.get(r["N"])
@@ -425,7 +433,9 @@ def large_markdown(rows) -> str:
         start = {"coarse": "coarse grid"}.get(r["start"], r["start"])
         ft = (f"{FRONT_TOL:g} (default)" if r.get("front_tol") is None
               else f"{r['front_tol']:g}")
-        lines.append(f"| {r['N']}² | {r['threads']} | {start} | {ft} | {r['adhesive_wall']:.0f} | "
+        bt = "1e-7 (default)" if r.get("band_tol") is None else f"{r['band_tol']:g}"
+        lines.append(f"| {r['N']}² | {r['threads']} | {start} | {ft} | {bt} | "
+                     f"{r['adhesive_wall']:.0f} | "
                      f"{r['adhesive_cpu']:.0f} | {r['adhesiveless_wall']:.2f} | "
                      f"**{r['ratio']:.0f}×** | {r['status']} | {r['outer']} | {r['area']:.4f} | "
                      f"{r['mu']:.5f} | {r['mu_adhesive']:.3g} | {r['G1'] / dg:.3f} | "
@@ -519,6 +529,8 @@ def main(argv=None):
                     help="--large: the starts to time (default both)")
     ap.add_argument("--front-tol", type=float, default=None,
                     help="--large: solver.front_tol in cells (default: the solver's, 0.5)")
+    ap.add_argument("--band-tol", type=float, default=None,
+                    help="--large: solver.band_tol (default: the solver's, 1e-7)")
     ap.add_argument("--figure", action="store_true",
                     help="only redraw docs/figures/solve_cost.png from the JSON files")
     a = ap.parse_args(argv)
@@ -545,12 +557,13 @@ def main(argv=None):
     if a.large:
         sizes = a.sizes if a.sizes != ap.get_default("sizes") else [1024, 2048]
         rows = large_rows(sizes, a.threads, ROOT / "bench" / "viscoelastic_large.json",
-                          tuple(a.large_starts), a.front_tol)
+                          tuple(a.large_starts), a.front_tol, a.band_tol)
         write_section("adhesive_large", "Measured with `python bench/viscoelastic.py --large "
                       "[--sizes 1024 2048] [--large-starts adhesiveless coarse] [--front-tol "
-                      "F] --threads 2` (wall seconds, FFT threads as in the row, "
-                      f"{os.cpu_count()} cores; a run replaces the rows of its sizes, starts and "
-                      "front_tol and keeps the others, each row with its date):\n\n"
+                      "F] [--band-tol B] --threads 2` (wall seconds, FFT threads as in the "
+                      f"row, {os.cpu_count()} cores; a run replaces the rows of its sizes, "
+                      "starts, front_tol and band_tol and keeps the others, each row with its "
+                      "date):\n\n"
                       + large_markdown(rows))
         return
     if a.starts:

@@ -212,7 +212,8 @@ def _grid_state(scene: Scene, op: SpectralOperator, mask0=None, progress=None,
                           front_tol=solver.get("front_tol", FRONT_TOL),
                           flaw_radius=scene.flaw_radius, progress=progress,
                           coarse_start=solver.get("coarse_start", False),
-                          extrapolate_a0=scene.extrapolate_a0)
+                          extrapolate_a0=scene.extrapolate_a0,
+                          band_tol=solver.get("band_tol"))
 
 
 def _adhesiveless_mask(op, scene: Scene):

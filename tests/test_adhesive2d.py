@@ -647,3 +647,42 @@ def test_extrapolated_elastic_edge_does_not_move_with_a0_on_a_rough_surface():
         assert ds.status.item() == "partial", (cells, ds.attrs["solver_message"])
         area[cells] = ds.area_fraction.item()
     assert area[2] == pytest.approx(area[1], rel=0.03), area
+
+
+def test_band_tol_loosens_the_moving_tests_only(monkeypatch):
+    """``solver.band_tol``: the band tests of the states the front passes through solve to
+    that tolerance, and a state that balances is tested again at the state's tolerance
+    before it is accepted.  Rough viscoelastic case of docs/rough_convergence.md at 128²
+    (loading at 1e4 Pa): every front test of the solve with band_tol = 1e-5 but the last
+    ones runs its band solves at 1e-5, the accepted state's at the state's (band_rtol None),
+    and it is the same verified state as the default's (measured at 256²: identical area,
+    μ, G1, G2, μ_a; the contact masks are compared here)."""
+    from pathlib import Path
+
+    import spectralbem.adhesive as adhesive
+    from spectralbem.scenes import load_scene, read_scene_file
+
+    case = Path(__file__).parents[1] / "cases" / "rough_convergence.toml"
+    raw = read_scene_file(case)
+    raw["control"] = {"mean_pressure": 1e4}
+    seen = []
+    real = adhesive.front_tests
+
+    def spy(*args, **kw):
+        seen.append(kw.get("band_rtol"))
+        return real(*args, **kw)
+
+    monkeypatch.setattr(adhesive, "front_tests", spy)
+    masks = {}
+    for bt in (None, 1e-5):
+        seen.clear()
+        ov = {"grid.Nx": 128, "grid.Ny": 128}
+        if bt is not None:
+            ov["solver.band_tol"] = bt
+        ds = sb.solve(load_scene(raw, base_dir=case.parent, overrides=ov))
+        assert ds.status.item() == "partial", ds.attrs["solver_message"]
+        masks[bt] = ds.contact.values.astype(bool)
+        assert seen[-1] is None  # the accepted state: band solves at the state's tolerance
+        assert seen[:-1] == pytest.approx([1e-7 if bt is None else bt] * (len(seen) - 1),
+                                          rel=1e-12), seen
+    np.testing.assert_array_equal(masks[None], masks[1e-5])

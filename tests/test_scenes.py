@@ -100,6 +100,7 @@ MALFORMED = [
     ("adhesion", {"dgamma": 0.05, "a0": -1e-4}, ["adhesion.a0", "(0, inf]"]),
     ("solver.tol", 0.5, ["solver.tol", "[1e-14, 0.01]"]),
     ("solver.threads", 0, ["solver.threads", "[1, 256]"]),
+    ("solver.band_tol", 1e-3, ["solver.band_tol", "[1e-14, 1e-05]"]),
     ("solver.extrapolate_a0", True, ["solver.extrapolate_a0", "adhesive elastic 2D scene",
                                      "viscoelastic True, adhesive False"]),
     ("output.fields", "yes", ["output.fields", "true or false"]),

@@ -418,6 +418,14 @@ def _large_key(r: dict) -> tuple:
             LARGE_STARTS.index(r["start"]))
 
 
+def _default_band_tol() -> float:
+    """The band tests' tolerance of a scene that sets neither solver.tol nor band_tol."""
+    from spectralbem.criterion import loose_band_rtol
+    from spectralbem.schema import SECTIONS
+
+    return loose_band_rtol(SECTIONS["solver"]["tol"].default)
+
+
 def large_markdown(rows) -> str:
     lines = ["| N² | FFT threads | start | front_tol (cells) | band_tol | adhesive state "
              "(wall s) | its CPU "
@@ -433,7 +441,8 @@ def large_markdown(rows) -> str:
         start = {"coarse": "coarse grid"}.get(r["start"], r["start"])
         ft = (f"{FRONT_TOL:g} (default)" if r.get("front_tol") is None
               else f"{r['front_tol']:g}")
-        bt = "1e-7 (default)" if r.get("band_tol") is None else f"{r['band_tol']:g}"
+        bt = (f"{_default_band_tol():g} (default)" if r.get("band_tol") is None
+              else f"{r['band_tol']:g}")
         lines.append(f"| {r['N']}² | {r['threads']} | {start} | {ft} | {bt} | "
                      f"{r['adhesive_wall']:.0f} | "
                      f"{r['adhesive_cpu']:.0f} | {r['adhesiveless_wall']:.2f} | "
@@ -530,7 +539,8 @@ def main(argv=None):
     ap.add_argument("--front-tol", type=float, default=None,
                     help="--large: solver.front_tol in cells (default: the solver's, 0.5)")
     ap.add_argument("--band-tol", type=float, default=None,
-                    help="--large: solver.band_tol (default: the solver's, 1e-7)")
+                    help="--large: solver.band_tol (default: the solver's, "
+                         f"{_default_band_tol():g})")
     ap.add_argument("--figure", action="store_true",
                     help="only redraw docs/figures/solve_cost.png from the JSON files")
     a = ap.parse_args(argv)

@@ -45,7 +45,13 @@ from .front import (
     resolved_front,
     unresolved_patches,
 )
-from .keys import EXTRAPOLATE_MIN_CELLS, FRONT_TOL, extrapolable, front_tol_max
+from .keys import (
+    BAND_TOL_MAX,
+    EXTRAPOLATE_MIN_CELLS,
+    FRONT_TOL,
+    extrapolable,
+    front_tol_max,
+)
 from .masked import TRUE_RESIDUAL_MARGIN, solve_masked, solve_packed
 from .moves import (
     OSCILLATION_FLIPS,
@@ -73,11 +79,6 @@ from .surfaces import check_heights
 #: load control: the sub-cell front carries the prescribed mean pressure within this
 #: fraction of the mean |p| (the mask state carries it minus the front's correction)
 LOAD_TOL = 1e-6
-
-#: the loosest band tolerance ``band_tol`` allows: at 1e-4 the rough elastic loading state at
-#: 256² reached another balanced state (area +1.4 %, 79 front iterations against 37), at 1e-5
-#: the same one (docs/performance.md)
-BAND_TOL_MAX = 1e-5
 
 __all__ = ["solve_adhesive"]
 
@@ -184,7 +185,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
 
     ``band_tol``: the relative tolerance of the band tests' masked solves while the front
     moves (None: criterion.loose_band_rtol, 1e3 ``rtol`` and at most 1e-6; at most
-    :data:`BAND_TOL_MAX`); a state that balances is tested again with the band solves at
+    keys.BAND_TOL_MAX); a state that balances is tested again with the band solves at
     ``rtol`` before it is accepted, so the tolerance decides the path, not the check
     (docs/performance.md).
 

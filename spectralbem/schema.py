@@ -21,6 +21,7 @@ import math
 import re
 
 from .keys import (  # noqa: F401 (re-exported: the schema's vocabulary)
+    BAND_TOL_MAX,
     DELAYED,
     DELAYED_DEFAULT,
     FRONT_TOL,
@@ -167,7 +168,7 @@ SECTIONS = {
                        "state that balances is tested again at tol before it is accepted. 1e-5 "
                        "costs 13-18 % less on the rough states at 512², same loading states, "
                        "unloading states within their spread (docs/performance.md)", "",
-                       TOL_MIN, 1e-5, default=None),
+                       TOL_MIN, BAND_TOL_MAX, default=None),
         "criterion": _k("string", "front criterion of adhesive scenes: exact layer tests, the "
                         "zero-solve predictor then exact tests (hybrid), or the predictor "
                         "alone (predictor; less accurate, see docs/performance.md)",

@@ -1,10 +1,11 @@
-"""Command line: ``spectralbem run | sweep | plot | validate | info``.
+"""Command line: ``spectralbem run | sweep | refine | plot | validate | info``.
 
 Examples::
 
     spectralbem run cases/rubber_rough.toml -o rubber.nc
     spectralbem run cases/jkr_sphere.toml -o jkr.nc --set grid.Nx=128 --set grid.Ny=128
     spectralbem sweep cases/seed_sinusoid_1d.toml --over zeta=1e-3:1e2:25:log -o fig5.nc
+    spectralbem refine cases/rubber_rough.toml --sizes 128 256 512 -o refine.nc
     spectralbem plot rubber.nc -o rubber.png
     spectralbem validate --quick
     spectralbem info
@@ -143,6 +144,37 @@ def _sweep(args) -> int:
     return 0
 
 
+def _refine(args) -> int:
+    from .io import cf_attributes, write_dataset
+    from .plausibility import PlausibilityWarning
+    from .refinement import VERIFIED, refine, resolution_overrides, summary
+    from .scenes import load_scene, read_scene_file
+
+    out = Path(args.output)
+    _check_output(out)
+    ov = _overrides(args.set)
+    finest = resolution_overrides(read_scene_file(args.scene), ov, args.sizes)[-1]
+    _plausible(load_scene(args.scene, overrides=finest), args.strict)
+
+    def tell(i, n, text):
+        if not args.quiet:
+            print(f"[{i + 1}/{len(args.sizes)}] N = {n}: {text}", file=sys.stderr, flush=True)
+
+    t = time.perf_counter()
+    with warnings.catch_warnings():  # printed above, for the finest grid
+        warnings.simplefilter("ignore", PlausibilityWarning)
+        ds = refine(args.scene, args.sizes, out, overrides=ov, progress=tell)
+    ds.attrs["wall_time_s"] = time.perf_counter() - t
+    cf_attributes(ds, history=_history(args.argv))
+    write_dataset(ds, out)
+    print(summary(ds))
+    print(f"refinement of {Path(args.scene).name} over N = "
+          f"{', '.join(str(int(n)) for n in ds['N'].values)} in "
+          f"{ds.attrs['wall_time_s']:.1f} s -> {out}")
+    status = [str(x) for x in ds["status"].values.ravel()]
+    return 0 if all(x in (*VERIFIED, "detached") for x in status) else 2
+
+
 def _plot(args) -> int:
     from .io import read_dataset
     from .plotting import plot_dataset
@@ -184,6 +216,8 @@ EXAMPLES = {
     "sweep": "spectralbem sweep cases/seed_sinusoid_1d.toml --over zeta=1e-3:1e2:25:log "
              "-o fig5.nc\n  spectralbem sweep cases/rubber_rough.toml --over "
              "motion.speed=1e-4,1e-3,1e-2 --over control.mean_pressure=5e3:2e4:4 -o s.nc",
+    "refine": "spectralbem refine cases/rubber_rough.toml --sizes 128 256 512 -o refine.nc\n"
+              "  spectralbem plot refine.nc",
     "plot": "spectralbem plot rubber.nc -o rubber.png",
     "validate": "spectralbem validate --quick",
     "info": "spectralbem info",
@@ -235,6 +269,23 @@ def build_parser() -> argparse.ArgumentParser:
                    help="stop on plausibility warnings (large p/E*, steep or tall surface, "
                         "modulus table not covering q·v, a0 large against the cut-off)")
     p.set_defaults(func=_sweep)
+    p = cmd("refine", "solve a scene on finer and finer grids (same physical surface)",
+            "Solve a scene at each resolution of --sizes (grid.Nx, grid.Ny in proportion; "
+            "the seed's 2D scene: sinusoid.cells_per_wavelength) with every physical length "
+            "kept, and estimate each output's grid error by Richardson extrapolation from "
+            "the three finest grids (none where the changes do not shrink yet). Each "
+            "finished grid is kept in OUT.parts/; rerunning the same command resumes. Exit "
+            "code 2 when a state did not converge.")
+    p.add_argument("scene", help="scene file (TOML) with a generated surface")
+    p.add_argument("--sizes", type=int, nargs="+", required=True, metavar="N",
+                   help="resolutions, growing by a constant ratio (e.g. 128 256 512)")
+    p.add_argument("-o", "--output", required=True, help="netCDF output path")
+    p.add_argument("--set", action="append", metavar="SECTION.KEY=VALUE",
+                   help="override a scene value (repeatable)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
+    p.add_argument("--strict", action="store_true",
+                   help="stop on plausibility warnings of the finest grid")
+    p.set_defaults(func=_refine)
     p = cmd("plot", "plot a result dataset", "Plot a dataset: contact maps, fields and a "
             "profile cut (one state), a path, or the curves of a sweep.")
     p.add_argument("dataset", help="netCDF result file")

@@ -27,12 +27,16 @@ PHYS_CURVES = ("area_fraction", "mu", "G1", "G2", "mu_adhesive", "penetration")
 LABELS = {"a_tilde": "ã", "e_tilde": "ẽ", "G1_over_dgamma": "G1/Δγ", "G2_over_dgamma": "G2/Δγ",
           "mu_bar": "μ/Λ̃", "area_fraction": "area fraction", "mu": "μ", "G1": "G1 (J/m²)",
           "G2": "G2 (J/m²)", "mu_adhesive": "μ_a", "penetration": "Δ (m)",
-          "mean_pressure": "p̄ (Pa)", "p_tilde": "p̃∞", "delta_tilde": "Δ̃"}
+          "mean_pressure": "p̄ (Pa)", "p_tilde": "p̃∞", "delta_tilde": "Δ̃",
+          "front_length": "front length", "crack_tip_length": "crack-tip length"}
 
-__all__ = ["plot_dataset", "plot_contact", "plot_path", "plot_sweep", "plot_profile_1d"]
+__all__ = ["plot_dataset", "plot_contact", "plot_path", "plot_sweep", "plot_profile_1d",
+           "plot_refinement"]
 
 
 def _kind(ds) -> str:
+    if "refinement_sizes" in ds.attrs:
+        return "refinement"
     if "sweep_keys" in ds.attrs:
         return "sweep"
     if "step" in ds.dims:
@@ -45,7 +49,7 @@ def _kind(ds) -> str:
 def plot_dataset(ds, path=None):
     """The natural plot of any result dataset; returns the figure (PNG written to ``path``)."""
     fig = {"sweep": plot_sweep, "path": plot_path, "grid": plot_contact,
-           "oned": plot_profile_1d}[_kind(ds)](ds)
+           "oned": plot_profile_1d, "refinement": plot_refinement}[_kind(ds)](ds)
     if path is not None:
         fig.savefig(path, dpi=110)
     return fig
@@ -130,6 +134,47 @@ NOT_VERIFIED = "not converged (unverified)"
 
 #: at most this many steps of a path get a contact map under its curves
 PATH_MAPS = 6
+
+
+def plot_refinement(ds):
+    """A grid refinement (spectralbem.refinement): each moving quantity against N as its
+    relative difference from the finest grid (%), one curve per load step, Richardson's
+    N → ∞ estimate dashed where the changes are asymptotic; hollow markers: states not
+    verified (left out of the estimates)."""
+    from .refinement import VERIFIED, varying
+
+    names = varying(ds)
+    cols = max(1, min(3, len(names)))
+    rows = max(1, int(np.ceil(len(names) / cols)))
+    fig, axes = plt.subplots(rows, cols, figsize=(4.3 * cols, 3.4 * rows), squeeze=False,
+                             constrained_layout=True)
+    n = np.asarray(ds["N"].values, float)
+    steps = range(ds.sizes["step"]) if "step" in ds.dims else [None]
+    for ax, q in zip(axes.ravel(), names, strict=False):
+        for k in steps:
+            sel = ds if k is None else ds.isel(step=k)
+            ok = np.isin(np.asarray(sel["status"].values).astype(str), VERIFIED)
+            v = np.asarray(sel[q].values, float)
+            ref = abs(v[-1]) if np.isfinite(v[-1]) and v[-1] != 0 else np.nan
+            rel = 100 * (v - v[-1]) / ref
+            line, = ax.plot(n, rel, "-", label=None if k is None else f"step {k}")
+            ax.plot(n[ok], rel[ok], "o", color=line.get_color())
+            ax.plot(n[~ok], rel[~ok], "o", mfc="none", color=line.get_color())
+            lim = float(sel[f"{q}_limit"].values)
+            if np.isfinite(lim):
+                ax.axhline(100 * (lim - v[-1]) / ref, ls="--", lw=0.8, color=line.get_color())
+        ax.axhline(0.0, color="0.6", lw=0.5)
+        ax.set_xscale("log", base=2)
+        ax.set_xticks(n, [str(int(x)) for x in n])
+        ax.set_xlabel("N")
+        ax.set_ylabel(f"{LABELS.get(q, q)}: % from N = {int(n[-1])}")
+    for ax in axes.ravel()[len(names):]:
+        ax.set_visible(False)
+    if len(steps) > 1 and names:
+        axes[0, 0].legend(fontsize=7)
+    fig.suptitle(f"{ds.attrs.get('title', 'spectralbem')}: grid refinement (dashed: "
+                 "Richardson's N → ∞ estimate)", fontsize=10)
+    return fig
 
 
 def plot_path(ds):

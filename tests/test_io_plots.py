@@ -174,7 +174,7 @@ def test_cli_run_plot_help_and_errors(tmp_path, capsys):
                      "--set", "surface.cutoff_wavelength=1.25e-4"]) == 0
     assert cli.main(["plot", str(out)]) == 0 and out.with_suffix(".png").exists()
     capsys.readouterr()
-    for cmd in ("run", "sweep", "plot", "validate", "info"):
+    for cmd in ("run", "sweep", "refine", "plot", "validate", "info"):
         with pytest.raises(SystemExit) as e:
             cli.main([cmd, "--help"])
         assert e.value.code == 0

@@ -1,0 +1,186 @@
+"""Grid refinement of a scene (spectralbem.refinement, `spectralbem refine`)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from spectralbem import cli, refinement
+from spectralbem.refinement import refine, resolution_overrides, richardson
+from spectralbem.scenes import load_scene, solve
+from spectralbem.schema import SceneError
+
+#: a rough elastic contact along a two-step path: the same physical surface at every N
+#: (cut-off wavelength 4 cells at 32², 16 at 128²)
+ROUGH = {
+    "scene": {"name": "refine_test"},
+    "grid": {"Lx": 1e-3, "Ly": 1e-3, "Nx": 32, "Ny": 32},
+    "surface": {"kind": "self_affine", "hurst": 0.8, "rolloff_wavelength": 5e-4,
+                "cutoff_wavelength": 1.25e-4, "rms_slope": 0.05, "seed": 2},
+    "material": {"kind": "elastic", "E": 1e6, "nu": 0.5},
+    "control": {"mean_pressure": [1e3, 3e3]},
+}
+SIZES = [32, 64, 128]
+
+
+@pytest.mark.parametrize("p, ratio", [(2.0, 2.0), (1.0, 2.0), (1.5, 1.5), (3.0, 3.0)])
+def test_richardson_recovers_order_and_limit(p, ratio):
+    """On f = f∞ + c hᵖ (h = 1/N, N growing by ``ratio``) the estimate is exact: the order,
+    the limit and each grid's error to round-off (1e-10)."""
+    ns = [16 * ratio**k for k in range(4)]
+    f = [2.5 - 3.0 * n**-p for n in ns]
+    order, limit, err = richardson(f, ratio)
+    assert order == pytest.approx(p, rel=1e-10)
+    assert limit == pytest.approx(2.5, rel=1e-10)
+    assert err == pytest.approx([abs(v - 2.5) / 2.5 for v in f], rel=1e-8)
+
+
+@pytest.mark.parametrize("values", [[1.0, 1.1, 1.05], [1.0, 1.0, 1.1], [1.0, 2.0, float("nan")],
+                                    [1.0, 1.5]])
+def test_richardson_claims_nothing_without_an_asymptotic_range(values):
+    """Differences that change sign or vanish, a missing value or fewer than three grids:
+    no order, no limit, no error estimate."""
+    order, limit, err = richardson(values)
+    assert math.isnan(order) and math.isnan(limit) and all(math.isnan(e) for e in err)
+
+
+def test_richardson_slow_changes_give_an_order_but_no_estimate():
+    """Changes shrinking slower than order ½ (here 0.26): the order is reported, the limit
+    and the errors are not (an extrapolation would be meaningless)."""
+    order, limit, err = richardson([1.0, 1.1, 1.184])
+    assert order == pytest.approx(math.log2(0.1 / 0.084))
+    assert order < refinement.ORDER_MIN and math.isnan(limit) and all(map(math.isnan, err))
+
+
+@pytest.fixture(scope="module")
+def refined(tmp_path_factory):
+    out = tmp_path_factory.mktemp("refine") / "r.nc"
+    told = []
+    ds = refine(ROUGH, SIZES, out, progress=lambda i, n, text: told.append((n, text)))
+    return ds, out, told
+
+
+def test_refine_solves_each_grid_as_a_run_would(refined):
+    """Every grid's scalars are those of an independent solve of the scene at that N (the
+    same surface, a0, loads): the refinement changes the cell and nothing else."""
+    ds, out, told = refined
+    assert [int(n) for n in ds["N"].values] == SIZES
+    assert [n for n, text in told if text == "solving"] == SIZES
+    for n in (32, 128):
+        one = solve(load_scene(ROUGH, overrides={"grid.Nx": n, "grid.Ny": n}))
+        for q in ("area_fraction", "penetration", "mean_pressure"):
+            np.testing.assert_array_equal(ds[q].sel(N=n).values, one[q].values)
+    assert set(np.asarray(ds["status"].values).ravel().astype(str)) == {"partial"}
+    assert ds.sizes["step"] == 2 and "pressure" not in ds  # scalars only
+
+
+def test_refine_estimates_are_richardson_of_the_values(refined):
+    """The stored order, limit, error and change are :func:`richardson` of the stored
+    values, step by step; the control (mean_pressure) and the zero friction of an elastic
+    scene are left out of the summary."""
+    ds, _, _ = refined
+    for k in range(2):
+        v = ds["area_fraction"].isel(step=k).values
+        p, finf, err = richardson(v)
+        assert float(ds["area_fraction_order"].isel(step=k)) == pytest.approx(p, nan_ok=True)
+        assert float(ds["area_fraction_limit"].isel(step=k)) == pytest.approx(finf,
+                                                                               nan_ok=True)
+        np.testing.assert_allclose(ds["area_fraction_error"].isel(step=k).values, err)
+        np.testing.assert_allclose(ds["area_fraction_change"].isel(step=k).values[1:],
+                                   np.diff(v) / np.abs(v[:-1]))
+    text = refinement.summary(ds)
+    assert "area_fraction" in text and "penetration" in text
+    assert "mean_pressure" not in text and "\nmu " not in text
+
+
+def test_refine_resumes_from_its_parts(refined, monkeypatch):
+    """The same refinement again solves nothing (every grid is kept in OUT.parts) and gives
+    the same dataset; a refinement of another scene refuses the parts folder."""
+    ds, out, _ = refined
+
+    def no_solve(*a, **k):
+        raise AssertionError("a kept grid was solved again")
+
+    monkeypatch.setattr("spectralbem.scenes.solve", no_solve)
+    again = refine(ROUGH, SIZES, out)
+    np.testing.assert_array_equal(again["area_fraction"].values, ds["area_fraction"].values)
+    with pytest.raises(SceneError, match="another refinement"):
+        refine(ROUGH, SIZES, out, overrides={"material.E": 2e6})
+
+
+def test_refine_keeps_the_grids_it_finished(tmp_path, monkeypatch):
+    """A refinement that fails at its second grid keeps the first on disk."""
+    import spectralbem.scenes as scenes
+
+    real = scenes.solve
+    calls = []
+
+    def failing(scene, **kw):
+        calls.append(scene)
+        if len(calls) == 2:
+            raise RuntimeError("stopped")
+        return real(scene, **kw)
+
+    monkeypatch.setattr(scenes, "solve", failing)
+    out = tmp_path / "r.nc"
+    with pytest.raises(RuntimeError, match="stopped"):
+        refine(ROUGH, [32, 64], out)
+    assert [p.name for p in sorted(out.with_name("r.nc.parts").iterdir())] == ["N_32.nc"]
+
+
+@pytest.mark.parametrize("change, sizes, words", [
+    ({"surface": {"kind": "file", "path": "h.npy"}}, SIZES, ["surface.kind", "'file'"]),
+    ({"adhesion": {"dgamma": 0.01, "a0": 4e-5, "dgamma_map": "g.npy"}}, SIZES,
+     ["adhesion.dgamma_map"]),
+    ({}, [32, 64, 96], ["--sizes", "constant ratio", "2, 1.5"]),
+    ({}, [64, 64], ["--sizes", "at least two"]),
+    ({"grid": {"Lx": 1e-3, "Ly": 3.125e-4, "Nx": 32, "Ny": 10}}, [48, 72],
+     ["Ny", "10·72/32 = 22.5"]),
+])
+def test_refine_rejects_what_it_cannot_refine(change, sizes, words, tmp_path):
+    """Named errors before any solve: a surface or Δγ map given on one grid, sizes that do
+    not grow by one ratio, an aspect ratio that leaves Ny fractional."""
+    raw = {**ROUGH, **change}
+    with pytest.raises(SceneError) as exc:
+        refine(raw, sizes, tmp_path / "r.nc")
+    for w in words:
+        assert w in str(exc.value)
+    assert not (tmp_path / "r.nc.parts").exists()
+
+
+def test_seed_scene_refines_cells_per_wavelength_and_strips_keep_ny():
+    seed = {"scene": {"model": "grid2d"}, "sinusoid": {"zeta": 0.1, "beta": 10,
+                                                       "p_tilde": 0.1}}
+    ovs = resolution_overrides(seed, None, [100, 200])
+    assert [o["sinusoid.cells_per_wavelength"] for o in ovs] == [100, 200]
+    strip = {**ROUGH, "grid": {"Lx": 1e-3, "Ly": 1e-6, "Nx": 64, "Ny": 2}}
+    assert [o["grid.Ny"] for o in resolution_overrides(strip, None, [64, 128])] == [2, 2]
+
+
+def test_cli_refine_and_plot(refined, tmp_path, capsys):
+    """`spectralbem refine` prints the table and exits 0 on verified states; `plot` draws
+    one panel per moving quantity; bad sizes exit 1 naming --sizes."""
+    from spectralbem.io import read_dataset
+    from spectralbem.plotting import plot_dataset
+
+    scene = tmp_path / "s.toml"
+    scene.write_text(_toml(ROUGH))
+    out = tmp_path / "c.nc"
+    assert cli.main(["refine", str(scene), "--sizes", "32", "64", "-o", str(out), "-q"]) == 0
+    printed = capsys.readouterr().out
+    assert "area_fraction" in printed and "N=64" in printed
+    fig = plot_dataset(read_dataset(out))
+    visible = [ax for ax in fig.axes if ax.get_visible()]
+    assert len(visible) == len(refinement.varying(read_dataset(out))) >= 2
+    assert cli.main(["refine", str(scene), "--sizes", "32", "48", "64", "-o",
+                     str(tmp_path / "d.nc")]) == 1
+    assert "--sizes" in capsys.readouterr().err
+
+
+def _toml(raw: dict) -> str:
+    lines = []
+    for sec, body in raw.items():
+        lines.append(f"[{sec}]")
+        for k, v in body.items():
+            lines.append(f"{k} = {v!r}".replace("'", '"'))
+    return "\n".join(lines) + "\n"

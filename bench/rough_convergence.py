@@ -37,6 +37,7 @@ import numpy as np  # noqa: E402
 
 from spectralbem.criterion import default_smoothing  # noqa: E402
 from spectralbem.keys import DELAYED, DELAYED_DEFAULT  # noqa: E402
+from spectralbem.refinement import richardson  # noqa: E402
 from spectralbem.scenes import load_scene, read_scene_file, solve  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -160,20 +161,6 @@ def scan_one(n: int, a0_cells: float, sigma: float | None) -> dict:
 def _mm(length) -> str:
     """A length (m) in mm for the tables; — where the row predates the quantity."""
     return "—" if length is None or not np.isfinite(length) else f"{length * 1e3:.2f}"
-
-
-def richardson(values: list) -> tuple:
-    """(observed order p, extrapolated value, error estimate of each value) from the values
-    on three grids refined by 2: p = log2|f1 − f2|/|f2 − f3|, f∞ = f3 + (f3 − f2)/(2^p − 1)."""
-    f1, f2, f3 = values[-3:]
-    d1, d2 = f2 - f1, f3 - f2
-    if d2 == 0 or d1 == 0 or d1 * d2 < 0:
-        return float("nan"), float("nan"), [float("nan")] * len(values)
-    p = float(np.log2(abs(d1 / d2)))
-    if p <= 0.5:  # no asymptotic range: an extrapolation would be meaningless
-        return p, float("nan"), [float("nan")] * len(values)
-    finf = f3 + d2 / (2**p - 1)
-    return p, finf, [abs(v - finf) / max(abs(finf), 1e-300) for v in values]
 
 
 def report(runs: list, path: Path, scans: list = ()) -> None:

@@ -13,7 +13,9 @@ Run by ``make figures`` (about a minute on 2 cores); each figure is what
   (cases/rough_convergence.toml at 128², loads 1e4, 3e4, 1e4, 3e3 Pa);
 * example_sweep.png — μ and the contact area against the sliding speed
   (cases/rubber_rough.toml at 64², 9 speeds, the local dask cluster);
-* example_profile_1d.png — the seed's 1D method (cases/seed_sinusoid_1d.toml).
+* example_profile_1d.png — the seed's 1D method (cases/seed_sinusoid_1d.toml);
+* example_refinement.png — a grid refinement, `spectralbem refine` (cases/rubber_rough.toml
+  at 64², 128², 256², 512²).
 
 Usage: python cases/example_figures.py [--only state_rough path ...]
 """
@@ -55,6 +57,13 @@ def _sweep():
             return ds.load()
 
 
+def _refinement():
+    from spectralbem.refinement import refine
+
+    with tempfile.TemporaryDirectory() as tmp:
+        return refine(CASES / "rubber_rough.toml", [64, 128, 256, 512], Path(tmp) / "r.nc")
+
+
 FIGURES = {
     "state_rough": lambda: sb.solve(_scene("rubber_rough", **{"grid.Nx": 128,
                                                               "grid.Ny": 128})),
@@ -65,6 +74,7 @@ FIGURES = {
         "grid.Nx": 128, "grid.Ny": 128, "control.mean_pressure": [1e4, 3e4, 1e4, 3e3]})),
     "sweep": _sweep,
     "profile_1d": lambda: sb.solve(_scene("seed_sinusoid_1d")),
+    "refinement": _refinement,
 }
 
 

@@ -153,7 +153,8 @@ def _refine(args) -> int:
     out = Path(args.output)
     _check_output(out)
     ov = _overrides(args.set)
-    finest = resolution_overrides(read_scene_file(args.scene), ov, args.sizes)[-1]
+    finest = resolution_overrides(read_scene_file(args.scene), ov, args.sizes, args.a0_cells,
+                                  Path(args.scene).resolve().parent)[-1]
     _plausible(load_scene(args.scene, overrides=finest), args.strict)
 
     def tell(i, n, text):
@@ -163,7 +164,8 @@ def _refine(args) -> int:
     t = time.perf_counter()
     with warnings.catch_warnings():  # printed above, for the finest grid
         warnings.simplefilter("ignore", PlausibilityWarning)
-        ds = refine(args.scene, args.sizes, out, overrides=ov, progress=tell)
+        ds = refine(args.scene, args.sizes, out, overrides=ov, a0_cells=args.a0_cells,
+                    progress=tell)
     ds.attrs["wall_time_s"] = time.perf_counter() - t
     cf_attributes(ds, history=_history(args.argv))
     write_dataset(ds, out)
@@ -282,6 +284,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", required=True, help="netCDF output path")
     p.add_argument("--set", action="append", metavar="SECTION.KEY=VALUE",
                    help="override a scene value (repeatable)")
+    p.add_argument("--a0-cells", type=float, metavar="K",
+                   help="elastic adhesive scenes (a0 numerical): a0 = K cells of each grid, "
+                        "towards the sharp-crack limit (default: a0 fixed in metres)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
     p.add_argument("--strict", action="store_true",
                    help="stop on plausibility warnings of the finest grid")

@@ -5,7 +5,9 @@
 across kept as it is), ``sinusoid.cells_per_wavelength`` of the seed's 2D scene — with every
 physical length unchanged: the domain, the surface (a generated surface is the same surface
 at every N: docs/user_guide.md, surfaces), a0, the relaxation length.  What changes is the
-cell alone, so the answers' differences are the grid's error.
+cell alone, so the answers' differences are the grid's error.  In an elastic adhesive
+scene a0 is numerical: ``a0_cells`` scales it with the cell instead, so that the refinement
+approaches the sharp-crack limit G = Δγ (refused where a0 is physical).
 
 The assembled dataset holds every scalar of each grid (and, for a load path, each step) on a
 dimension ``N`` (the refined resolution), and for each quantity of :data:`QUANTITIES` the
@@ -75,13 +77,18 @@ def _raw_of(source):
     return dict(source), Path(".")
 
 
-def resolution_overrides(raw: dict, overrides: dict | None, sizes) -> list:
+def resolution_overrides(raw: dict, overrides: dict | None, sizes, a0_cells=None,
+                         base=None) -> list:
     """The overrides of each refined grid (a list of dicts, one per size), after the checks
     that the scene can be refined on a fixed physical domain (:class:`SceneError` naming
-    the key and its value otherwise)."""
+    the key and its value otherwise).  ``a0_cells``: a0 set to that many of each grid's
+    cells (the sharp-crack limit of an elastic scene, where a0 is numerical) instead of kept
+    fixed; refused where a0 is physical (a viscoelastic solid sliding) or absent."""
     from .scenes import apply_overrides
 
     spec = apply_overrides(raw, overrides)
+    if a0_cells is not None:
+        _check_a0_cells(spec, a0_cells, base)
     sizes = _check_sizes(sizes)
     problems = []
     surface = spec.get("surface") or {}
@@ -101,15 +108,37 @@ def resolution_overrides(raw: dict, overrides: dict | None, sizes) -> list:
             if ny != int(ny):
                 problems.append(f"--sizes: Nx = {n} gives Ny = {ny0}·{n}/{nx0} = {ny:g}, not "
                                 f"a whole number of cells (keep Nx/Ny = {nx0}/{ny0})")
-            out.append({**(overrides or {}), "grid.Nx": n, "grid.Ny": int(ny)})
+            ov = {**(overrides or {}), "grid.Nx": n, "grid.Ny": int(ny)}
+            if a0_cells is not None:
+                ov["adhesion.a0"] = a0_cells * min(grid["Lx"] / n, grid["Ly"] / int(ny))
+            out.append(ov)
     elif isinstance(sin, dict):
-        out = [{**(overrides or {}), "sinusoid.cells_per_wavelength": n} for n in sizes]
+        out = [{**(overrides or {}), "sinusoid.cells_per_wavelength": n,
+                **({} if a0_cells is None else
+                   {"sinusoid.a0_tilde": a0_cells * 2 * math.pi / n})} for n in sizes]
     else:
         problems.append("grid.Nx: the scene has no grid to refine")
         out = []
     if problems:
         raise SceneError(problems)
     return out
+
+
+def _check_a0_cells(spec: dict, a0_cells, base) -> None:
+    """--a0-cells only where a0 is numerical: an adhesive scene of an elastic solid, or of
+    a viscoelastic one at rest."""
+    from .scenes import load_scene
+
+    if not (isinstance(a0_cells, (int, float)) and 1 <= a0_cells <= 64):
+        raise SceneError(f"--a0-cells: {a0_cells!r} must be a number of cells in [1, 64]")
+    scene = load_scene(spec, base_dir=base)
+    if not scene.adhesive:
+        raise SceneError("--a0-cells: the scene has no adhesion (adhesion.dgamma = 0): "
+                         "there is no a0 to scale")
+    if scene.viscoelastic:
+        raise SceneError("--a0-cells: a0 is a physical process-zone length in a "
+                         "viscoelastic solid in motion; refine with a0 fixed (omit "
+                         "--a0-cells)")
 
 
 def _check_sizes(sizes) -> list:
@@ -127,31 +156,34 @@ def _check_sizes(sizes) -> list:
     return sizes
 
 
-def _digest(raw, overrides, base) -> str:
+def _digest(raw, overrides, base, a0_cells) -> str:
     from . import __version__
     from .sweep import _digest as digest
     from .sweep import input_files
 
-    return digest(raw, [], overrides, input_files(raw, overrides, base), __version__)
+    return digest(raw, [("a0_cells", a0_cells)], overrides,
+                  input_files(raw, overrides, base), __version__)
 
 
-def refine(source, sizes, out, *, overrides: dict | None = None, progress=None,
-           quantities=QUANTITIES):
+def refine(source, sizes, out, *, overrides: dict | None = None, a0_cells=None,
+           progress=None, quantities=QUANTITIES):
     """Solve the scene ``source`` (TOML path or parsed mapping) at each of ``sizes`` on its
     fixed physical domain and write the assembled dataset to ``out`` (module docstring);
-    returns it.  ``progress``: a callable (index, size, text) told before and after each
-    grid, or None.  Every grid's scene is validated before the first solve."""
+    returns it.  ``a0_cells``: a0 scaled with the cell (:func:`resolution_overrides`; the
+    elastic sharp-crack limit), else kept fixed in metres.  ``progress``: a callable (index,
+    size, text) told before and after each grid, or None.  Every grid's scene is validated
+    before the first solve."""
     from .scenes import load_scene, solve
 
     raw, base = _raw_of(source)
-    per_size = resolution_overrides(raw, overrides, sizes)
+    per_size = resolution_overrides(raw, overrides, sizes, a0_cells, base)
     sizes = _check_sizes(sizes)
     for ov in per_size:  # every grid validated before any heavy work
         load_scene(raw, overrides={**ov, "output.fields": False}, base_dir=base)
     out = Path(out)
     parts = out.with_name(out.name + ".parts")
     parts.mkdir(exist_ok=True)
-    digest = _digest(raw, overrides, base)
+    digest = _digest(raw, overrides, base, a0_cells)
     files = []
     for i, (n, ov) in enumerate(zip(sizes, per_size, strict=True)):
         part = parts / f"N_{n}.nc"
@@ -176,7 +208,8 @@ def refine(source, sizes, out, *, overrides: dict | None = None, progress=None,
             progress(i, n, "done: " + ", ".join(sorted(set(np.atleast_1d(
                 ds["status"].values).astype(str)))))
     ds = _assemble([read_dataset(f) for f in files], sizes, quantities)
-    ds.attrs.update(refinement_digest=digest)
+    ds.attrs.update(refinement_digest=digest,
+                    refinement_a0=("fixed (m)" if a0_cells is None else f"{a0_cells:g} × the cell"))
     write_dataset(ds, out)
     return ds
 

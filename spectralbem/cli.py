@@ -162,10 +162,17 @@ def _refine(args) -> int:
             print(f"[{i + 1}/{len(args.sizes)}] N = {n}: {text}", file=sys.stderr, flush=True)
 
     t = time.perf_counter()
-    with warnings.catch_warnings():  # printed above, for the finest grid
-        warnings.simplefilter("ignore", PlausibilityWarning)
-        ds = refine(args.scene, args.sizes, out, overrides=ov, a0_cells=args.a0_cells,
-                    progress=tell)
+    try:
+        with warnings.catch_warnings():  # printed above, for the finest grid
+            warnings.simplefilter("ignore", PlausibilityWarning)
+            ds = refine(args.scene, args.sizes, out, overrides=ov, a0_cells=args.a0_cells,
+                        progress=tell)
+    except KeyboardInterrupt:  # the finished grids are on disk
+        parts = out.with_name(out.name + ".parts")
+        kept = len(list(parts.glob("N_*.nc"))) if parts.is_dir() else 0
+        print(f"spectralbem refine: interrupted: {kept} grid(s) kept in {parts}; rerun the "
+              "same command to resume", file=sys.stderr)
+        return 130
     ds.attrs["wall_time_s"] = time.perf_counter() - t
     cf_attributes(ds, history=_history(args.argv))
     write_dataset(ds, out)

@@ -232,3 +232,25 @@ def test_a0_cells_refinement_approaches_jkr(tmp_path):
     err = ds["area_fraction"].values / jkr - 1
     assert abs(err[-1]) <= 0.025 and abs(err[-1]) < abs(err[0])
     assert ds.attrs["refinement_a0"] == "1 × the cell"
+
+
+def test_cli_refine_interrupted_says_what_it_kept(tmp_path, monkeypatch, capsys):
+    """Ctrl-C during a refinement: exit 130, the grids finished so far named as kept."""
+    import spectralbem.scenes as scenes
+
+    real = scenes.solve
+    calls = []
+
+    def interrupted(scene, **kw):
+        calls.append(1)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return real(scene, **kw)
+
+    monkeypatch.setattr(scenes, "solve", interrupted)
+    scene = tmp_path / "s.toml"
+    scene.write_text(_toml(ROUGH))
+    out = tmp_path / "c.nc"
+    assert cli.main(["refine", str(scene), "--sizes", "32", "64", "-o", str(out), "-q"]) == 130
+    err = capsys.readouterr().err
+    assert "1 grid(s) kept" in err and "rerun the same command" in err

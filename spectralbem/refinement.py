@@ -108,7 +108,8 @@ def resolution_overrides(raw: dict, overrides: dict | None, sizes, a0_cells=None
             if ny != int(ny):
                 problems.append(f"--sizes: Nx = {n} gives Ny = {ny0}·{n}/{nx0} = {ny:g}, not "
                                 f"a whole number of cells (keep Nx/Ny = {nx0}/{ny0})")
-            ov = {**(overrides or {}), "grid.Nx": n, "grid.Ny": int(ny)}
+            ov = {**(overrides or {}), "grid.Nx": n, "grid.Ny": int(ny),
+                  "output.fields": False}  # scalars only: no field is stored
             if a0_cells is not None:
                 ov["adhesion.a0"] = a0_cells * min(grid["Lx"] / n, grid["Ly"] / int(ny))
             out.append(ov)
@@ -179,7 +180,7 @@ def refine(source, sizes, out, *, overrides: dict | None = None, a0_cells=None,
     per_size = resolution_overrides(raw, overrides, sizes, a0_cells, base)
     sizes = _check_sizes(sizes)
     for ov in per_size:  # every grid validated before any heavy work
-        load_scene(raw, overrides={**ov, "output.fields": False}, base_dir=base)
+        load_scene(raw, overrides=ov, base_dir=base)
     out = Path(out)
     parts = out.with_name(out.name + ".parts")
     parts.mkdir(exist_ok=True)
@@ -199,7 +200,7 @@ def refine(source, sizes, out, *, overrides: dict | None = None, a0_cells=None,
             continue
         if progress:
             progress(i, n, "solving")
-        ds = solve(load_scene(raw, overrides={**ov, "output.fields": False}, base_dir=base))
+        ds = solve(load_scene(raw, overrides=ov, base_dir=base))
         ds = ds.drop_vars([v for v in ds.variables if not set(ds[v].dims) <= {"step"}])
         ds.attrs.update(refinement_digest=digest, refinement_size=n)
         write_dataset(ds, part)

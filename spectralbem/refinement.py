@@ -222,7 +222,8 @@ def _assemble(dss, sizes, quantities):
     ds = xr.concat(dss,
                    dim=xr.DataArray(np.asarray(sizes), dims="N", name="N"),
                    data_vars="all", coords="minimal", compat="override",
-                   combine_attrs="drop")
+                   combine_attrs="override")  # each variable's units and long_name
+    ds.attrs = {}
     # the finest grid's attributes but those of its solve alone (its message, diagnostics)
     drop = ("refinement_size", "solver_message", "solver_diagnostics", "wall_time_s")
     ds.attrs.update({k: v for k, v in dss[-1].attrs.items() if k not in drop})
@@ -230,7 +231,7 @@ def _assemble(dss, sizes, quantities):
         ds.attrs["scene_note"] = "scene: the finest grid's; the others differ in N only"
     ds.attrs["refinement_sizes"] = np.asarray(sizes)
     ds["N"].attrs.update(long_name="refined resolution (grid.Nx, or the seed scene's "
-                         "cells per wavelength)")
+                         "cells per wavelength)", units="1")
     ratio = sizes[1] / sizes[0]
     ok = xr.apply_ufunc(lambda s: np.isin(s.astype(str), VERIFIED), ds["status"])
     for q in quantities:
@@ -240,7 +241,8 @@ def _assemble(dss, sizes, quantities):
         order, limit, error, change = _estimates(vals.values, ratio)
         dims = vals.dims
         units = ds[q].attrs.get("units", "")
-        ds[f"{q}_order"] = (dims[:-1], order, {"long_name": f"observed order of {q}"})
+        ds[f"{q}_order"] = (dims[:-1], order, {"long_name": f"observed order of {q}",
+                                                "units": "1"})
         ds[f"{q}_limit"] = (dims[:-1], limit, {"long_name": f"Richardson estimate of {q} "
                                                "as N → ∞", "units": units})
         ds[f"{q}_error"] = (dims, error, {"long_name": f"estimated relative error of {q}",

@@ -279,3 +279,11 @@ def test_refinement_of_the_seed_sinusoid_approaches_the_1d_method(tmp_path):
         assert abs(limit / ref - 1) <= 3e-3, q
         if q != "G2_over_dgamma":  # G2 does not move at these grids (order 10)
             assert abs(limit - ref) < abs(finest - ref), q
+
+
+def test_refinement_variables_have_units(refined):
+    ds, _, _ = refined
+    for name in ("N", "area_fraction_order", "area_fraction_limit", "area_fraction_error",
+                 "area_fraction_change", "penetration_limit"):
+        assert "units" in ds[name].attrs and "long_name" in ds[name].attrs, name
+    assert ds["penetration_limit"].attrs["units"] == ds["penetration"].attrs["units"] == "m"

@@ -163,10 +163,8 @@ def test_cli_refine_and_plot(refined, tmp_path, capsys):
     from spectralbem.io import read_dataset
     from spectralbem.plotting import plot_dataset
 
-    scene = tmp_path / "s.toml"
-    scene.write_text(_toml(ROUGH))
-    out = tmp_path / "c.nc"
-    assert cli.main(["refine", str(scene), "--sizes", "32", "64", "-o", str(out), "-q"]) == 0
+    code, scene, out = _cli_refine(tmp_path)
+    assert code == 0
     printed = capsys.readouterr().out
     assert "area_fraction" in printed and "N=64" in printed
     fig = plot_dataset(read_dataset(out))
@@ -175,6 +173,16 @@ def test_cli_refine_and_plot(refined, tmp_path, capsys):
     assert cli.main(["refine", str(scene), "--sizes", "32", "48", "64", "-o",
                      str(tmp_path / "d.nc")]) == 1
     assert "--sizes" in capsys.readouterr().err
+
+
+def _cli_refine(tmp_path):
+    """`spectralbem refine` of ROUGH written as a scene file, at 32² and 64²: (exit code,
+    scene path, output path)."""
+    scene = tmp_path / "s.toml"
+    scene.write_text(_toml(ROUGH))
+    out = tmp_path / "c.nc"
+    return cli.main(["refine", str(scene), "--sizes", "32", "64", "-o", str(out), "-q"]), \
+        scene, out
 
 
 def _toml(raw: dict) -> str:
@@ -248,10 +256,7 @@ def test_cli_refine_interrupted_says_what_it_kept(tmp_path, monkeypatch, capsys)
         return real(scene, **kw)
 
     monkeypatch.setattr(scenes, "solve", interrupted)
-    scene = tmp_path / "s.toml"
-    scene.write_text(_toml(ROUGH))
-    out = tmp_path / "c.nc"
-    assert cli.main(["refine", str(scene), "--sizes", "32", "64", "-o", str(out), "-q"]) == 130
+    assert _cli_refine(tmp_path)[0] == 130
     err = capsys.readouterr().err
     assert "1 grid(s) kept" in err and "rerun the same command" in err
 

@@ -318,6 +318,9 @@ def summary(ds, quantities=QUANTITIES) -> str:
         lines.append(("" if k is None else f"step {k}: ") + "status "
                      + ", ".join(f"{n}: {s}" for n, s in zip(sizes, status, strict=True)))
         lines.append(head)
+        ok = np.isin(np.asarray(status), VERIFIED)
+        why = ("none (not asymptotic)" if ok[-3:].all() and ok.size >= 3
+               else "none (a state not verified)" if ok.size >= 3 else "none (two grids)")
         for q in varying(ds, quantities):
             v = sel[q].values
             ch = float(sel[f"{q}_change"].values[-1])
@@ -325,7 +328,7 @@ def summary(ds, quantities=QUANTITIES) -> str:
             err = float(sel[f"{q}_error"].values[-1])
             lines.append(q + "".join(f" | {x:.6g}" for x in v)
                          + f" | {_pct(ch, True)} | {p:.2f} | "
-                         + (_pct(err) if math.isfinite(err) else "none (not asymptotic)"))
+                         + (_pct(err) if math.isfinite(err) else why))
     return "\n".join(lines)
 
 

@@ -292,3 +292,20 @@ def test_refinement_variables_have_units(refined):
                  "area_fraction_change", "penetration_limit"):
         assert "units" in ds[name].attrs and "long_name" in ds[name].attrs, name
     assert ds["penetration_limit"].attrs["units"] == ds["penetration"].attrs["units"] == "m"
+
+
+def test_summary_says_why_there_is_no_estimate(refined):
+    """No error estimate: two grids only, or a state among the three finest not verified
+    (its values left out), or changes that do not shrink — each said as such."""
+    ds, _, _ = refined
+    assert "none (two grids)" in refinement.summary(ds.isel(N=[0, 1]))
+    bad = ds.copy(deep=True)
+    status = bad["status"].values.astype(object)
+    status[1, 0] = "not_converged"
+    bad["status"] = (bad["status"].dims, status)
+    bad = refinement._assemble([bad.isel(N=i) for i in range(3)], SIZES,
+                               refinement.QUANTITIES)
+    text = refinement.summary(bad)
+    first = text.split("step 1:")[0]
+    assert "none (a state not verified)" in first and "64: not_converged" in first
+    assert np.isnan(bad["area_fraction_limit"].isel(step=0))

@@ -592,7 +592,7 @@ def test_extrapolated_edge_does_not_follow_the_mask_on_a_rough_surface(monkeypat
     fronts, docs/theory.md)."""
     from pathlib import Path
 
-    from spectralbem import adhesive, coarse, front, solving
+    from spectralbem import coarse, front, front_iteration, solving
     from spectralbem.scenes import load_scene, read_scene_file
 
     case = Path(__file__).parents[1] / "cases" / "rough_convergence.toml"
@@ -609,8 +609,8 @@ def test_extrapolated_edge_does_not_follow_the_mask_on_a_rough_surface(monkeypat
     assert r.status == "partial", r.message
     phi = coarse._level_set(r, (cell.hx, cell.hy))
     still = np.zeros(cell.shape, bool)
-    monkeypatch.setattr(adhesive._FrontIteration, "_moves", lambda *a: (still, still))
-    monkeypatch.setattr(adhesive._FrontIteration, "_nucleate", lambda *a: False)
+    monkeypatch.setattr(front_iteration.FrontIteration, "_moves", lambda *a: (still, still))
+    monkeypatch.setattr(front_iteration.FrontIteration, "_nucleate", lambda *a: False)
     area = {}
     for t in (0.0, 0.25, -0.25):
         mask = phi > t * cell.hx
@@ -659,20 +659,20 @@ def test_band_tol_loosens_the_moving_tests_only(monkeypatch):
     μ, G1, G2, μ_a; the contact masks are compared here)."""
     from pathlib import Path
 
-    import spectralbem.adhesive as adhesive
+    import spectralbem.front_iteration as front_iteration
     from spectralbem.scenes import load_scene, read_scene_file
 
     case = Path(__file__).parents[1] / "cases" / "rough_convergence.toml"
     raw = read_scene_file(case)
     raw["control"] = {"mean_pressure": 1e4}
     seen = []
-    real = adhesive.front_tests
+    real = front_iteration.front_tests
 
     def spy(*args, **kw):
         seen.append(kw.get("band_rtol"))
         return real(*args, **kw)
 
-    monkeypatch.setattr(adhesive, "front_tests", spy)
+    monkeypatch.setattr(front_iteration, "front_tests", spy)
     masks = {}
     for bt in (None, 1e-5):
         seen.clear()

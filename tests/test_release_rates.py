@@ -2,10 +2,10 @@
 
 import numpy as np
 
-from spectralbem.adhesive import _FrontIteration
 from spectralbem.contact import sliding_direction
 from spectralbem.criterion import front_tests
 from spectralbem.front import release_rates
+from spectralbem.front_iteration import FrontIteration
 from spectralbem.materials import StandardLinearSolid
 from spectralbem.spectral import Cell, SpectralOperator
 from spectralbem.surfaces import paraboloid
@@ -30,7 +30,7 @@ def _closing_rates(n: int, a0: float, r0: float):
     h = paraboloid(cell, 1.0)
     kw = dict(rtol=1e-10, vhat=sliding_direction(op), front_smoothing=None,
               smoothing_per_radius=0.23, observables=None)
-    run = _FrontIteration(op, h, DGAMMA, a0, None, 0.0, mask, kw, "exact", 0.5, None)
+    run = FrontIteration(op, h, DGAMMA, a0, None, 0.0, mask, kw, "exact", 0.5, None)
     assert run._solve_state()
     w = h - run.hmax + run.delta
     t = front_tests(op, w, mask, run.p, DGAMMA, a0, u=run.u, adjoint=True, **kw)

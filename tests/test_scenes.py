@@ -146,7 +146,7 @@ def test_valid_base_and_model_choice(monkeypatch):
     """The scene decides the model: an elastic scene runs Polonsky–Keer (CG, no E(ω)); a
     half-space never evaluates S; an adhesiveless scene never runs the energy balance; a
     y-invariant sinusoid on an SLS half-space runs as 1D (recorded in the dataset)."""
-    import spectralbem.adhesive as adh
+    import spectralbem.front_iteration as adh
     import spectralbem.layers as layers
     from spectralbem.materials import StandardLinearSolid
 

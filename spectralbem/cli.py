@@ -299,7 +299,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="stop on plausibility warnings of the finest grid")
     p.set_defaults(func=_refine)
     p = cmd("plot", "plot a result dataset", "Plot a dataset: contact maps, fields and a "
-            "profile cut (one state), a path, or the curves of a sweep.")
+            "profile cut (one state), a path, the curves of a sweep, or a grid refinement.")
     p.add_argument("dataset", help="netCDF result file")
     p.add_argument("-o", "--output", help="PNG path (default: dataset name with .png)")
     p.add_argument("--step", type=int, metavar="K",

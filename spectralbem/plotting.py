@@ -5,8 +5,9 @@ first swept key, log axes where the values span decades, as in the seed's figure
 (scalars against the prescribed load or penetration), a grid state (title block; contact map
 with the front coloured by the local G/Δγ, pressure and gap fields, a profile cut along the
 sliding direction; for physical scenes the pressure distribution, the surface's power
-spectrum and the distribution of G/Δγ along the front) or a 1D state (stress and
-displacement on the contact).
+spectrum and the distribution of G/Δγ along the front), a 1D state (stress and
+displacement on the contact) or a grid refinement (each output's difference from the finest
+grid against N, :mod:`spectralbem.refinement`).
 """
 
 from __future__ import annotations

@@ -512,7 +512,7 @@ def resolution_table(runs: list) -> list:
              "lies within 5 % (1 %) of the finest grid's, stated only where the two finest "
              "grids agree within half of that (\"not yet (x %)\": they differ by x %, and "
              "no grid measured reaches that accuracy for certain). In this case's "
-             "lengths: N² has N/16 cells per cut-off wavelength (62.5 µm), N/256 per vτ "
+             "lengths: N² has N/16 cells per cut-off wavelength (62.5 µm), ≈ N/250 per vτ "
              "(3.98 µm) and N/128 per a0 (7.8 µm); on another surface, scale by those "
              "lengths.", "",
              "| material | step | " + " | ".join(

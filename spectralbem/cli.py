@@ -145,7 +145,6 @@ def _sweep(args) -> int:
 
 
 def _refine(args) -> int:
-    from .io import cf_attributes, write_dataset
     from .plausibility import PlausibilityWarning
     from .refinement import VERIFIED, refine, resolution_overrides, summary
     from .scenes import load_scene, read_scene_file
@@ -161,21 +160,17 @@ def _refine(args) -> int:
         if not args.quiet:
             print(f"[{i + 1}/{len(args.sizes)}] N = {n}: {text}", file=sys.stderr, flush=True)
 
-    t = time.perf_counter()
     try:
         with warnings.catch_warnings():  # printed above, for the finest grid
             warnings.simplefilter("ignore", PlausibilityWarning)
             ds = refine(args.scene, args.sizes, out, overrides=ov, a0_cells=args.a0_cells,
-                        progress=tell)
+                        progress=tell, history=_history(args.argv))
     except KeyboardInterrupt:  # the finished grids are on disk
         parts = out.with_name(out.name + ".parts")
         kept = len(list(parts.glob("N_*.nc"))) if parts.is_dir() else 0
         print(f"spectralbem refine: interrupted: {kept} grid(s) kept in {parts}; rerun the "
               "same command to resume", file=sys.stderr)
         return 130
-    ds.attrs["wall_time_s"] = time.perf_counter() - t
-    cf_attributes(ds, history=_history(args.argv))
-    write_dataset(ds, out)
     print(summary(ds))
     print(f"refinement of {Path(args.scene).name} over N = "
           f"{', '.join(str(int(n)) for n in ds['N'].values)} in "

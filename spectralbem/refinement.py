@@ -167,26 +167,31 @@ def _digest(raw, overrides, base, a0_cells) -> str:
 
 
 def refine(source, sizes, out, *, overrides: dict | None = None, a0_cells=None,
-           progress=None, quantities=QUANTITIES):
+           progress=None, quantities=QUANTITIES, history: str | None = None):
     """Solve the scene ``source`` (TOML path or parsed mapping) at each of ``sizes`` on its
     fixed physical domain and write the assembled dataset to ``out`` (module docstring);
     returns it.  ``a0_cells``: a0 scaled with the cell (:func:`resolution_overrides`; the
     elastic sharp-crack limit), else kept fixed in metres.  ``progress``: a callable (index,
-    size, text) told before and after each grid, or None.  Every grid's scene is validated
-    before the first solve."""
+    size, text) told before and after each grid, or None.  ``history``: the CF history line
+    of the command that asked (io.cf_attributes).  Every grid's scene is validated (and
+    built) before the first solve."""
+    import time
+
+    from .io import cf_attributes
     from .scenes import load_scene, solve
 
+    t = time.perf_counter()
     raw, base = _raw_of(source)
     per_size = resolution_overrides(raw, overrides, sizes, a0_cells, base)
     sizes = _check_sizes(sizes)
-    for ov in per_size:  # every grid validated before any heavy work
-        load_scene(raw, overrides=ov, base_dir=base)
+    # every grid validated before any heavy work; the scenes are the ones solved below
+    scenes = [load_scene(raw, overrides=ov, base_dir=base) for ov in per_size]
     out = Path(out)
     parts = out.with_name(out.name + ".parts")
     parts.mkdir(exist_ok=True)
     digest = _digest(raw, overrides, base, a0_cells)
     files = []
-    for i, (n, ov) in enumerate(zip(sizes, per_size, strict=True)):
+    for i, (n, scene) in enumerate(zip(sizes, scenes, strict=True)):
         part = parts / f"N_{n}.nc"
         if part.is_file():
             old = read_dataset(part)
@@ -200,7 +205,7 @@ def refine(source, sizes, out, *, overrides: dict | None = None, a0_cells=None,
             continue
         if progress:
             progress(i, n, "solving")
-        ds = solve(load_scene(raw, overrides=ov, base_dir=base))
+        ds = solve(scene)
         ds = ds.drop_vars([v for v in ds.variables if not set(ds[v].dims) <= {"step"}])
         ds.attrs.update(refinement_digest=digest, refinement_size=n)
         write_dataset(ds, part)
@@ -211,6 +216,8 @@ def refine(source, sizes, out, *, overrides: dict | None = None, a0_cells=None,
     ds = _assemble([read_dataset(f) for f in files], sizes, quantities)
     ds.attrs.update(refinement_digest=digest,
                     refinement_a0=("fixed (m)" if a0_cells is None else f"{a0_cells:g} × the cell"))
+    ds.attrs["wall_time_s"] = time.perf_counter() - t
+    cf_attributes(ds, history=history)
     write_dataset(ds, out)
     return ds
 
@@ -312,6 +319,7 @@ def summary(ds, quantities=QUANTITIES) -> str:
     head = "quantity" + "".join(f" | N={n}" for n in sizes) + " | last change | order | " \
         "error at N=" + str(sizes[-1])
     lines = []
+    names = varying(ds, quantities)
     for k in steps:
         sel = ds if k is None else ds.isel(step=k)
         status = [str(s) for s in np.atleast_1d(sel["status"].values)]
@@ -321,7 +329,7 @@ def summary(ds, quantities=QUANTITIES) -> str:
         ok = np.isin(np.asarray(status), VERIFIED)
         why = ("none (not asymptotic)" if ok[-3:].all() and ok.size >= 3
                else "none (a state not verified)" if ok.size >= 3 else "none (two grids)")
-        for q in varying(ds, quantities):
+        for q in names:
             v = sel[q].values
             ch = float(sel[f"{q}_change"].values[-1])
             p = float(sel[f"{q}_order"].values)

@@ -192,6 +192,9 @@ class FrontIteration:
             return _BREAK
         self.flaw_tried = True  # nucleation rule: open it once, let the criterion decide
         self.mask = ~flaw
+        # the flaw is no move of the balance: a criterion that closes it again is no 2-cycle
+        # (a stale last move would bracket the flaw's edge and accept it as balanced)
+        self.last_change = np.zeros_like(flaw)
         return _NEXT
 
     def _solve_state(self) -> bool:

@@ -165,114 +165,95 @@ def _mm(length) -> str:
 
 def report(runs: list, path: Path, scans: list = ()) -> None:
     lines = ["# Rough-surface adhesive contact: grid refinement", "",
-             "The page `bench/rough_convergence.py` writes (`make bench`, or "
-             "`python bench/rough_convergence.py`); the numbers are from the JSON beside the "
-             "script. One physical surface at every N (see docs/user_guide.md, surfaces); a0 "
-             "fixed in metres; loading 1e4 Pa, then 3e4 Pa, then unloading to 1e4 Pa.", "",
-             "How to read it: the error columns are Richardson estimates from the three "
-             "finest grids of a table (nan where the differences do not shrink monotonically, "
-             "or shrink slower than order ½: no asymptotic range yet). "
-             "They measure the grid error at the stated a0 only. In an elastic scene a0 is "
-             "numerical and the answer also moves with a0 while a0 is not small against the "
-             "contact patches (compare the tables of two a0 at the same N; from a0 = 2 "
-             "cells on an elastic scene's band is a0 wide at every orientation, "
-             "`criterion.exact_width`, below it the whole layers: the 128² row of a0 = "
-             "7.8 µm and the 256² row of 3.9 µm have a0 = one cell, so the Richardson "
-             "estimates of those tables mix two band rules; at a0 = 7.8 µm the 1024² "
-             "loading state of the `--front-tol 1` table reads 1.7 % below 512²; the "
-             "tables marked \"edge extrapolated to a0 → 0\" remove the a0² part of that "
-             "dependence with `solver.extrapolate_a0`, docs/theory.md, the default of an "
-             "elastic scene from a0 = 2 cells on; the other elastic tables set it false, "
-             "the edge of the a0 tests alone); in a "
-             "viscoelastic "
-             "scene the relaxation length vτ (4 µm here: 0.5, 1, 2, 4 cells at 128², 256², "
-             "512², 1024²) must span about two cells before the trailing edge is resolved: "
-             "on the sinusoid against the 1D method μ_a is within 1 % from 2 cells per vτ "
-             "with the default kernel (its delayed part averaged over the cells) and −7 % "
-             "off at one cell (docs/performance.md, \"Resolving the relaxation length\"; "
-             "the sampled kernel, the tables marked \"delayed kernel: sampled\", needs 2.5 "
-             "cells for 5 % and 4 for 2 %). "
-             "μ_a is −Σ (G − Δγ)(n·v̂) ds / W, and G1 − Δγ and Δγ − G2 are "
-             "differences of a tenth of Δγ here, so that a 1 % move of G1 is a 10 % move "
-             "of μ_a: it needs G1, G2 converged on the curved fronts, which needs the "
-             "band of the front tests a0 wide at every orientation and δL_P/δA taken "
-             "along the front as a ratio of sums (docs/theory.md, \"Release rates along "
-             "the front\"). With both, the loading state's μ_a moves by 1.5 % from 512² "
-             "to 1024² (2 and 4 cells per vτ), G1 and G2 by 0.2 %; at 256² (one cell per "
-             "vτ) μ_a is 20 % below 512² while G1 and G2 are within 1 %: there the "
-             "relaxation length is not resolved, which is why the 256²/512² comparison "
-             "of μ_a fails. At 2048² (8 cells per vτ; `python bench/viscoelastic.py "
-             "--large`, docs/performance.md, whose rows give μ_a, G1 and G2 from before "
-             "the ratio of sums) the coarse-grid start's state at front_tol = 1 cell, "
-             "re-evaluated once with the ratios of sums, reads μ_a = 1.82e-4, 3.4 % below "
-             "the 1024² state from the same start at the same tolerance in length (one-off "
-             "solve: 1.89e-4; G1 and G2 within 0.3 %); the two starts at 1024² differ by "
-             "12 % in μ_a (docs/theory.md, \"Known limits\"): compare grids along one "
-             "start. "
-             "From 512² to 1024² along the default kernel's path, area, μ, G1 and G2 "
-             "hold within 1.1 % at all three loads, μ_a within 1.5 % on loading and not "
-             "at 3e4 Pa and on unloading (16 % and 10 %: G1 − G2 is 0.13-0.17 Δγ there, "
-             "so a 1 % move of G1 moves μ_a by 7-8 %). "
-             "G1, G2 and μ_a are taken over the crack tips only, the column "
-             "\"crack tips (mm)\" (the part of the front not held by contact; — in rows "
-             "recorded before the dataset had it): about a third of the front in the "
-             "viscoelastic states (five sixths in the elastic ones). "
-             "The sls tables other than the three of the default kernel (the path, the "
-             "loading state and the path at front_tol = 0.2 cells, whose unloading state "
-             "agrees between 256² and 512² in area because its 256² state is the outlier of "
-             "the tolerances 0.1-0.5: area 0.2243 against 0.2191-0.2195, docs/theory.md, "
-             "\"Convergence\") were measured before the band was a0 "
-             "wide at every "
-             "orientation, with the band of the cells within a0 (thinner on oblique "
-             "fronts): they are kept for their comparisons, but their states are not "
-             "those of the current code (its loading state at 256² has 6.9 % less area "
-             "than the sampled-kernel table's and 3.4 % less than the former default "
-             "kernel's), and their G1, G2 and μ_a are the per-owner release rates' "
-             "(before the ratio of sums); rerun a table with the command its title names. "
-             "The table marked "
-             "\"loading state only\" (`--loading-only`) adds 1024² for the first state of "
-             "the path, where the whole path takes too long.", "",
-             "The state at a load is not unique. Adhesion makes the rough contact "
-             "hysteretic: at 1e4 Pa the elastic unloading state holds 7-10 % more area "
-             "than the loading state (both balanced), and the states between them are balanced too "
-             "where the front is pinned by the roughness or a neck bridges two patches. "
-             "Which one a solve reaches depends on its start: the tables marked "
-             "\"coarse-grid start\" solve the same path from the coarse grid's front "
-             "(`--coarse-start`, `solver.coarse_start`), and differ from the adhesiveless "
-             "start by as much as the 256²/512² differences below (elastic: 1.6 % and "
-             "0.2 % of area on loading at 256² and 512², 1.6 % and 2.0 % on unloading). "
-             "Compare grids along one "
-             "start; the spread between starts is the resolution of the question \"the "
-             "state at this load\" on this surface. On unloading a coarse grid adds "
-             "equilibria of its own: the receding mask stops on the side it came from (at "
-             "1e4 Pa it holds 4.7 % more area than the balanced front at 256², 2.5 % at "
-             "512², elastic, a0 = 7.8 µm), the a0 tests' edge follows the mask by a quarter "
-             "to a third of that (the edge extrapolated to a0 → 0, the elastic default from "
-             "two cells on, does not), and the 256² path stops in an equilibrium the 512² "
-             "grid does not hold: the 512² unloading state sampled at 256² is balanced there "
-             "too, 1.0 % from 512² with the extrapolated edge (0.4 % with the a0 tests'), "
-             "where the 256² path stops 2.4 % (2.0 %) above it, and the 256² state carried "
-             "to 512² recedes to the 512² path's state with that edge (one-off solves; "
-             "docs/theory.md, \"Rules added for curved fronts and rough surfaces\", "
-             "load-path steps). With that edge the 256² unloading state also depends on "
-             "the tolerance and the path's steps: 0.3193 and 0.3162 at `front_tol` = 0.5 "
-             "and 0.25 (the tables), 0.3102 and 0.3179 unloaded in steps of 5 kPa "
-             "(one-off), a spread of 2.9 %, where the 512² state reads 0.3024-0.3029 "
-             "(0.2 %): the unloading branch needs 512² here.", "",
+             "One physical rough surface (`cases/rough_convergence.toml`: L = 1 mm, H = 0.8, "
+             "roll-off 250 µm, cut-off 62.5 µm, rms slope 0.1, seed 3 — the same Fourier "
+             "coefficients at every N), elastic (E = 1 MPa) or SLS (E0 = 1 MPa, β = 10, "
+             "τ = 10 ms, ζ = 0.1 at the roll-off), Δγ = 0.01 J/m², a0 fixed in metres, "
+             "along the load path 1e4 → 3e4 → 1e4 Pa, solved at N = 128 … 1024. "
+             "Generated by `python bench/rough_convergence.py --report` from "
+             "bench/rough_convergence.json; the title of each table names the options that "
+             "rerun it (`python bench/rough_convergence.py --materials … --sizes … "
+             "[options]`). To refine a scene of your own the same way: `spectralbem refine` "
+             "(docs/user_guide.md).", "",
              *resolution_table(runs),
              "![refinement](figures/rough_convergence.png)", "",
              "The figure: area fraction, μ and the release rates against N (open markers: "
              "states not verified; dashed: the coarse-grid start; stars and crosses: the "
              "elastic edge extrapolated to a0 → 0, `--extrapolate-a0`; the elastic a0 = one cell "
              "row is the scan below; μ's u-form, −Σ p v̂·∇u on the mask, is drawn for "
-             "comparison with the reported μ, docs/theory.md, outputs).", ""]
+             "comparison with the reported μ, docs/theory.md, outputs).", "",
+             "## How to read the tables", "",
+             "- The error columns are Richardson estimates from the three finest grids of a "
+             "table: nan where the differences do not shrink monotonically or shrink slower "
+             "than order ½ (no asymptotic range yet). They measure the grid error at the "
+             "stated a0 only.",
+             "- **Elastic scenes**: a0 is numerical, and the answer also moves with a0 while "
+             "a0 is not small against the contact patches (compare the tables of 3.9 and "
+             "7.8 µm). The default edge is extrapolated to a0 → 0 (`solver.extrapolate_a0`, "
+             "on from a0 = 2 cells: the tables marked \"edge extrapolated\"); the other "
+             "elastic tables keep the edge of the a0 tests alone. From a0 = 2 cells the band "
+             "is a0 wide at every orientation (`criterion.exact_width`), below it whole "
+             "layers: the 128² row at 7.8 µm and the 256² row at 3.9 µm have a0 = one cell, "
+             "so the Richardson estimates of those tables mix two band rules.",
+             "- **Viscoelastic scenes**: the relaxation length vτ (3.98 µm: 0.5, 1, 2, 4 "
+             "cells at 128²-1024²) must span about two cells: on the sinusoid against the 1D "
+             "method μ_a is within 1 % from 2 cells per vτ and −7 % at one cell "
+             "(docs/performance.md, \"Resolving the relaxation length\").",
+             "- μ_a = −Σ (G − Δγ)(n·v̂) ds / W is a difference: G1 − Δγ and Δγ − G2 are about a "
+             "tenth of Δγ here, so a 1 % move of G1 moves μ_a by about 10 %. G1, G2 and μ_a "
+             "are taken over the crack tips only, the column \"crack tips (mm)\" (the part "
+             "of the front not held by contact: about a third of the front in the "
+             "viscoelastic states, five sixths in the elastic ones; — in rows recorded "
+             "before the dataset had it).",
+             "- Compare grids along one start: the tables marked \"coarse-grid start\" solve "
+             "the same path from the coarse grid's front (`--coarse-start`, "
+             "`solver.coarse_start`) and reach other balanced states (below).", "",
+             "## What this case shows", "",
+             "- **Loading**: the viscoelastic loading state's area moves by 0.5 % and 0.4 % "
+             "per doubling from 256² to 1024², μ by 0.9 % and 0.4 %, G1 and G2 by ≤ 0.8 % and "
+             "0.2 %: settled to about half a per cent, though not yet in an asymptotic range "
+             "(the area's changes shrink at order 0.2: no Richardson estimate); μ_a moves by "
+             "1.5 % from 512² to 1024² (2 and 4 cells per vτ) and is 20 % below 512² at 256² "
+             "(one cell per vτ). The elastic loading area at a0 = 7.8 µm, edge extrapolated, "
+             "moves by 0.3 % from 256² to 512².",
+             "- **The state at a load is not unique.** Adhesion makes the contact "
+             "hysteretic: at 1e4 Pa the elastic unloading state holds 5-11 % more area than "
+             "the loading state (both balanced; 256² and 512², either edge), and the states "
+             "between them are balanced "
+             "too where the front is pinned by the roughness or a neck bridges two patches. "
+             "Which one a solve reaches depends on its start: the coarse-grid start differs "
+             "from the adhesiveless start by as much as 256² from 512² (elastic, the a0 "
+             "tests' edge: 1.6 % and 0.2 % of area on loading at 256² and 512², 1.6 % and "
+             "2.0 % on unloading); the "
+             "two starts at 1024² differ by 12 % in the SLS μ_a (docs/theory.md, "
+             "\"Known limits\"). The spread between starts is the resolution of the "
+             "question \"the state at this load\" on this surface.",
+             "- **Unloading needs 512²** here. A coarse grid adds equilibria of its own: the "
+             "256² elastic unloading state depends on the tolerance and the path's steps "
+             "(0.3193 and 0.3162 at `front_tol` = 0.5 and 0.25, 0.3102 and 0.3179 unloaded "
+             "in steps of 5 kPa: a spread of 2.9 %), where the 512² state reads "
+             "0.3024-0.3029 (0.2 %); the 512² unloading state sampled at 256² is balanced "
+             "there too, and the 256² state carried to 512² recedes to the 512² path's "
+             "state (docs/theory.md, load-path steps). The SLS unloading state at 256² is "
+             "2 % below 512² and 1024², which agree within 0.2 %.",
+             "- **μ_a at 3e4 Pa and on unloading** is not converged at 1024² (16 % and 10 % "
+             "from 512²): G1 − G2 is 0.13-0.17 Δγ there, so a 1 % move of G1 moves μ_a by "
+             "7-8 %, and at 3e4 Pa about 90 % of μ_a sits on the edges of the non-contact "
+             "lakes, whose G1 still grows by 13 % per doubling (docs/theory.md, "
+             "\"Known limits\"). At 2048² (8 cells per vτ; `python bench/viscoelastic.py "
+             "--large`) the loading state from the coarse-grid start at front_tol = 1 cell "
+             "reads μ_a 3.4 % below the 1024² state from the same start and tolerance (G1 "
+             "and G2 within 0.3 %).", "",
+             "## The tables", "",
+             "The default tables first (the elastic edge extrapolated to a0 → 0, the sls "
+             "path and loading state with the default kernel), then the other numerical "
+             "lengths and starts.", ""]
     by = {}
     for r in runs:
         by.setdefault(_key(r), []).append(r)
-    for (mat, a0, sig, coarse, only, ftol, dk, ex), rs in sorted(by.items(),
-                                                             key=lambda kv: str(kv[0])):
+    for (mat, a0, sig, coarse, only, ftol, dk, ex), rs in sorted(by.items(), key=_table_order):
         rs = sorted(rs, key=lambda r: r["N"])
-        lines += [f"## {mat}, a0 = {a0 * 1e6:g} µm, front smoothing σ = "
+        lines += [f"### {mat}, a0 = {a0 * 1e6:g} µm, front smoothing σ = "
                   f"{f'default ({_default_sigma(mat):g} a0)' if sig is None else f'{sig:g} a0'}"
                   + (", coarse-grid start" if coarse else "")
                   + (f", front_tol = {ftol:g} cells (`--front-tol`)" if ftol is not None else "")
@@ -530,6 +511,20 @@ def resolution_table(runs: list) -> list:
             grids = ", ".join(f"{r['N']}²" for r in rs)
             lines.append(f"| {material} ({grids}) | {name} | " + " | ".join(cells) + " |")
     return lines + [""]
+
+
+#: the default tables, in the page's order: the elastic path with the edge extrapolated to
+#: a0 → 0, the sls path and the sls loading state (every other setting the solver's default)
+DEFAULT_TABLES = (("elastic", A0, None, False, False, None, None, True),
+                  ("sls", A0, None, False, False, None, DELAYED_DEFAULT, False),
+                  ("sls", A0, None, False, True, None, DELAYED_DEFAULT, False))
+
+
+def _table_order(item) -> tuple:
+    """The page's order of the tables (``by``'s items): the defaults first, then by key."""
+    key = item[0]
+    return (DEFAULT_TABLES.index(key) if key in DEFAULT_TABLES else len(DEFAULT_TABLES),
+            str(key))
 
 
 def _default_sigma(material: str) -> float:

@@ -224,10 +224,14 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "Which one a solve reaches depends on its start: the coarse-grid start differs "
              "from the adhesiveless start by as much as 256² from 512² (elastic, the a0 "
              "tests' edge: 1.6 % and 0.2 % of area on loading at 256² and 512², 1.6 % and "
-             "2.0 % on unloading); the "
-             "two starts at 1024² differ by 12 % in the SLS μ_a (docs/theory.md, "
-             "\"Known limits\"). The spread between starts is the resolution of the "
-             "question \"the state at this load\" on this surface.",
+             "2.0 % on unloading). μ_a, a small difference summed over the crack tips, "
+             "moves with the start more than with the grid: the SLS path from the "
+             "coarse-grid start reads μ_a +3 % and −8 % on loading at 256² and 512², −20 % "
+             "and −13 % on unloading, where its area and μ stay within 0.6 % (but for the "
+             "512² unloading state: area −4.2 %, μ −1.5 %); the two starts at 1024² differ by 12 % "
+             "(docs/theory.md, \"Known limits\"). The spread between starts is the "
+             "resolution of the question \"the state at this load\" on this surface, and "
+             "for μ_a it is wider than 5 %.",
              "- **Unloading needs 512²** here. A coarse grid adds equilibria of its own: the "
              "256² elastic unloading state depends on the tolerance and the path's steps "
              "(0.3193 and 0.3162 at `front_tol` = 0.5 and 0.25, 0.3102 and 0.3179 unloaded "

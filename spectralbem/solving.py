@@ -258,8 +258,17 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
         area = None
         pm = r.mean_pressure
         status, msg = _verify(status, msg, scene, mask)
-        if status == "partial" and r.tests is not None:
-            fo = front_outputs(op, r, scene.dgamma)
+        fo = front_outputs(op, r, scene.dgamma) if (status == "partial"
+                                                    and r.tests is not None) else None
+        if fo is not None and not fo["area_fraction"] > 0:
+            # the balanced front lies inside the mask by more than the patches hold: their
+            # edges recede past each other, so no contact of this mask is in equilibrium
+            status, msg = "not_converged", (
+                f"the balanced sub-cell front encloses no area (area fraction "
+                f"{fo['area_fraction']:.3g} from {int(mask.sum())} contact cells): the "
+                f"contact patches are too small for the band a0 = {scene.a0:.3g} m; "
+                f"solver: {msg}")
+        if status == "partial" and fo is not None:
             area = fo["area_fraction"]
             mu_a = fo["mu_adhesive"]
             if np.isnan(mu_a):  # no net normal force: 0 when G1 = G2, else ±inf (the sign
@@ -396,10 +405,13 @@ def _solve_one(scene: Scene, state, progress=None):
     return ds, (mask if scene.adhesive and mask.any() and not mask.all() else None)
 
 
-#: load-path sub-steps: a step of an adhesive grid path that ends not_converged from a
-#: verified partial state is solved again from that state by halving the step of the control
-#: where it fails, at most this many times (steps down to 1/2**SUBSTEP_HALVINGS of the
-#: jump; docs/theory.md, adhesive 2D criterion)
+#: load-path sub-steps: a step of an adhesive grid path that ends not_converged or detached
+#: from a verified partial state is solved again from that state by halving the step of the
+#: control where it fails, at most this many times (steps down to 1/2**SUBSTEP_HALVINGS of
+#: the jump; docs/theory.md, load-path steps).  A detachment is the path's once it happens
+#: over the smallest step: a jump of the load can carry the front past a branch that a
+#: quasi-static path follows (the JKR sphere at 128² from −150 to −230 Pa, above its pull-off
+#: of −235.6 Pa, detached in one step; from −200 Pa it stays in contact)
 SUBSTEP_HALVINGS = 3
 
 
@@ -409,9 +421,10 @@ def _status(ds) -> str:
 
 def _substep(scene: Scene, ds, carried, prev, v) -> bool:
     """Whether the path step to ``v`` is to be retried in sub-steps: an adhesive grid scene
-    whose step ended not_converged from the verified partial state at ``prev``."""
+    whose step ended not_converged or detached from the verified partial state at ``prev``."""
     return (scene.model == "grid2d" and scene.adhesive and carried is not None
-            and prev is not None and prev != v and _status(ds) == "not_converged")
+            and prev is not None and prev != v
+            and _status(ds) in ("not_converged", "detached"))
 
 
 def _halved(scene: Scene, v0, v1, state, depth: int, progress, first=None):
@@ -420,23 +433,25 @@ def _halved(scene: Scene, v0, v1, state, depth: int, progress, first=None):
     fails, ``depth`` times at most.  Returns (dataset, carried state, number of steps);
     the dataset of the last step tried when a step fails at the last depth."""
     ds, s = first or _solve_one(scene.at_step(v1), state, progress)
-    if _status(ds) == "partial" and s is not None:
+    status = _status(ds)
+    if (status == "partial" and s is not None) or (status == "detached" and depth == 0):
         return ds, s, 1
-    if depth == 0:
+    if depth == 0 or state is None:  # (from a detached state: no branch to follow)
         return ds, s, 0
     mid = 0.5 * (v0 + v1)
     dm, sm, km = _halved(scene, v0, mid, state, depth - 1, progress)
     if km == 0:
         return dm, sm, 0
-    d1, s1, k1 = _halved(scene, mid, v1, sm, depth - 1, progress)
+    # once a sub-step detached, the rest of the step starts afresh, in one step
+    d1, s1, k1 = _halved(scene, mid, v1, sm, depth - 1 if sm is not None else 0, progress)
     return d1, s1, (km + k1 if k1 else 0)
 
 
 def _substepped(scene: Scene, ds, state, carried, prev, v, progress):
-    """The path step prev → v, which ended not_converged, solved again from the carried
-    state by halving it where it fails (``SUBSTEP_HALVINGS``): (dataset, state, number of
-    steps taken) of the last step, or the direct step's (``ds``, ``state``, 1) when some
-    step fails at the smallest size."""
+    """The path step prev → v, which ended not_converged or detached, solved again from the
+    carried state by halving it where it fails (``SUBSTEP_HALVINGS``): (dataset, state,
+    number of steps taken) of the last step, or the direct step's (``ds``, ``state``, 1)
+    when some step fails at the smallest size."""
     direct = ds.attrs.get("solver_message", "")
     sub, s, k = _halved(scene, prev, v, carried, SUBSTEP_HALVINGS, progress, (ds, state))
     if k:
@@ -444,8 +459,10 @@ def _substepped(scene: Scene, ds, state, carried, prev, v, progress):
             f"{sub.attrs.get('solver_message', '')}; reached from {prev:g} in {k} steps of "
             f"the control (the direct step: {direct})")
         return sub, s, k
+    failed = ("did not converge either" if _status(ds) == "not_converged"
+              else "failed (not converged) before the last one")
     ds.attrs["solver_message"] = (f"{direct}; steps from {prev:g} down to "
-                                  f"1/{2 ** SUBSTEP_HALVINGS} of it did not converge either")
+                                  f"1/{2 ** SUBSTEP_HALVINGS} of it {failed}")
     return ds, state, 1
 
 

@@ -686,3 +686,21 @@ def test_band_tol_loosens_the_moving_tests_only(monkeypatch):
         assert seen[:-1] == pytest.approx([1e-7 if bt is None else bt] * (len(seen) - 1),
                                           rel=1e-12), seen
     np.testing.assert_array_equal(masks[None], masks[1e-5])
+
+
+def test_a_front_that_encloses_no_area_is_not_a_verified_state():
+    """The rough SLS case of docs/rough_convergence.md at 64² under zero mean pressure, a0 one
+    cell (15.6 µm): the solve ends on two contact cells (+14 kPa and −14 kPa) whose balanced
+    edges recede further than the cells reach, so the sub-cell front encloses a negative
+    area (area fraction −2.5e-4, measured).  Such a state has no contact in equilibrium: it
+    is reported not_converged, never `partial`."""
+    from pathlib import Path
+
+    from spectralbem.scenes import load_scene
+
+    case = Path(__file__).parents[1] / "cases" / "rough_convergence.toml"
+    ds = sb.solve(load_scene(case, overrides={
+        "grid.Nx": 64, "grid.Ny": 64, "control.mean_pressure": 0.0, "adhesion.a0": 1.5625e-5}))
+    assert ds.status.item() == "not_converged"
+    assert "encloses no area" in ds.attrs["solver_message"]
+    assert float(ds.area_fraction) >= 0.0  # the mask's fraction, not a negative front area

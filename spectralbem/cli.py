@@ -82,7 +82,9 @@ def _overrides(items) -> dict:
     return out
 
 
-def _check_output(path: Path):
+def _check_output(path: Path, inputs=()):
+    """Before any heavy work: the output's folder exists and is writable, and the output is
+    not an existing folder, device or pipe, nor one of the command's ``inputs``."""
     import os
 
     folder = path.parent if str(path.parent) else Path(".")
@@ -90,6 +92,12 @@ def _check_output(path: Path):
         raise OSError(f"output folder {str(folder)!r} does not exist")
     if not os.access(folder, os.W_OK):
         raise OSError(f"output folder {str(folder)!r} is not writable")
+    if path.exists() and not path.is_file():
+        raise OSError(f"output {str(path)!r} exists and is not a regular file (a folder, "
+                      "device or pipe); give a file name")
+    for f in inputs:
+        if path.exists() and Path(f).exists() and path.samefile(f):
+            raise OSError(f"output {str(path)!r} is the input {str(f)!r}; give another name")
 
 
 def _run(args) -> int:
@@ -99,7 +107,7 @@ def _run(args) -> int:
     from .schema import SceneError
 
     out = Path(args.output)
-    _check_output(out)  # before any heavy work
+    _check_output(out, [args.scene])  # before any heavy work
     scene = load_scene(args.scene, overrides=_overrides(args.set))
     _plausible(scene, args.strict)
     t = time.perf_counter()
@@ -128,7 +136,7 @@ def _sweep(args) -> int:
     from .sweep import SweepInterrupted, parse_over, run_sweep
 
     out = Path(args.output)
-    _check_output(out)
+    _check_output(out, [args.scene])
     over = [parse_over(o) for o in args.over]
     _plausible(load_scene(args.scene, overrides=_overrides(args.set)), args.strict)
     t = time.perf_counter()
@@ -139,9 +147,23 @@ def _sweep(args) -> int:
     except SweepInterrupted as exc:  # Ctrl-C: one line, the finished points are on disk
         print(f"spectralbem sweep: interrupted: {exc}", file=sys.stderr)
         return 130
+    bad, total = _unverified(path)
     print(f"sweep of {Path(args.scene).name} finished in {time.perf_counter() - t:.1f} s "
-          f"-> {path}")
-    return 0
+          f"-> {path}" + (f"; {bad} of {total} states not verified (not_converged: their "
+                          f"messages are in {path}.parts/)" if bad else ""))
+    return 2 if bad else 0
+
+
+def _unverified(path) -> tuple:
+    """(states not verified, states) of a written dataset (a sweep's points and steps)."""
+    import numpy as np
+    import xarray as xr
+
+    with xr.open_dataset(path) as ds:
+        if "status" not in ds:
+            return 0, 0
+        status = [str(x) for x in np.ravel(ds["status"].values)]
+    return sum(x not in ("partial", "full_contact", "detached") for x in status), len(status)
 
 
 def _refine(args) -> int:
@@ -150,7 +172,7 @@ def _refine(args) -> int:
     from .scenes import load_scene, read_scene_file
 
     out = Path(args.output)
-    _check_output(out)
+    _check_output(out, [args.scene])
     ov = _overrides(args.set)
     finest = resolution_overrides(read_scene_file(args.scene), ov, args.sizes, args.a0_cells,
                                   Path(args.scene).resolve().parent)[-1]
@@ -185,7 +207,8 @@ def _plot(args) -> int:
 
     path = Path(args.dataset)
     if not path.is_file():
-        raise FileNotFoundError(f"dataset {str(path)!r} does not exist")
+        raise FileNotFoundError(f"dataset {str(path)!r} " + (
+            "is not a file" if path.exists() else "does not exist"))
     ds = read_dataset(path, verify=True)  # a corrupted file must not crash netCDF-C here
     if args.step is not None:
         n = ds.sizes.get("step", 0)
@@ -197,6 +220,7 @@ def _plot(args) -> int:
                              f"[0, {n - 1}] (negative counts from the end)")
         ds = ds.isel(step=args.step)
     out = Path(args.output) if args.output else path.with_suffix(".png")
+    _check_output(out, [path])  # before rendering
     plot_dataset(ds, out)
     print(f"wrote {out}")
     return 0

@@ -169,6 +169,10 @@ FULL_CHECK = 0.9
 REFILL_BYTES = 2**20
 
 
+#: the outer-step guard of the non-symmetric solvers (semismooth Newton, active set): at most
+#: this many, fewer when ``solver.max_iterations`` is smaller
+OUTER_MAX = 200
+
 #: iterations between two calls of a solve's ``progress(iteration, text)``
 PROGRESS_EVERY = 10
 
@@ -544,6 +548,8 @@ def solve_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     of :mod:`spectralbem.newton` otherwise, falling back to the active set where it does not
     converge), or 'active-set' (exact masked solves: the reference the Newton method is
     tested against, 3-100× slower); a symmetric operator always runs Polonsky–Keer.
+    ``maxiter`` guards Polonsky–Keer's iterations, and the outer steps (Newton steps, set
+    updates) of the other two, 200 at most.
     ``progress``: None or ``progress(iteration, text)``, called every
     :data:`PROGRESS_EVERY` iterations of Polonsky–Keer and at every Newton step."""
     from .newton import newton_contact
@@ -552,15 +558,16 @@ def solve_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         raise ContactError(f"method = {method!r}; allowed: 'auto', 'active-set'")
     h = np.asarray(heights, dtype=float)
     kw = dict(mean_pressure=mean_pressure, penetration=penetration, tol=tol, p0=p0)
+    outer = min(OUTER_MAX, int(maxiter))  # the outer guard of the non-symmetric solvers
     if op.symmetric:
         r = polonsky_keer(op, h, maxiter=maxiter, progress=progress, **kw)
         method = "polonsky-keer"
         diag = {"fft_pairs": r.fft_pairs}
     elif method == "active-set":
-        r = active_set(op, h, mask0=mask0, **kw)
+        r = active_set(op, h, mask0=mask0, max_outer=outer, **kw)
         diag = {"outer_iterations": r.outer_iterations}
     else:
-        r = newton_contact(op, h, mask0=mask0, progress=progress, **kw)
+        r = newton_contact(op, h, mask0=mask0, progress=progress, max_outer=outer, **kw)
         method = "semismooth-newton"
         diag = {"outer_iterations": r.outer_iterations, "fft_pairs": r.fft_pairs}
         if not r.converged:
@@ -569,7 +576,7 @@ def solve_contact(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             # rough 128² surface of `bench/viscoelastic.py --robustness`)
             first = r
             r = active_set(op, h, mean_pressure=mean_pressure, penetration=penetration,
-                           tol=tol)
+                           tol=tol, max_outer=outer)
             r = r._replace(iterations=r.iterations + first.iterations,
                            message=f"{r.message} (after the semismooth Newton method: "
                                    f"{first.message})")

@@ -145,7 +145,9 @@ SECTIONS = {
         "tol": _k("number", "relative tolerance of the contact / Krylov solves (not below "
                   "1e-14: double precision cannot reach it)", "", TOL_MIN, 1e-2,
                   default=1e-10),
-        "max_iterations": _k("integer", "iteration guard of the contact solver", "", 1, 10**6,
+        "max_iterations": _k("integer", "iteration guard of the contact solver (Polonsky–Keer "
+                             "iterations; Newton or active-set steps of a viscoelastic slab, "
+                             "200 at most)", "", 1, 10**6,
                              default=10000),
         "max_outer": _k("integer", "iteration guard of the adhesive front iteration", "", 1,
                         10**5, default=500),

@@ -75,6 +75,11 @@ class SweepInterrupted(KeyboardInterrupt):
         self.kept, self.total = kept, total
 
 
+#: the most points a sweep may have (all ``--over`` axes together): a larger study is split
+#: into several sweeps (each point is a dataset on disk before the sweep is assembled)
+MAX_POINTS = 100_000
+
+
 def parse_over(text: str):
     """``KEY=START:STOP:NUM[:log|lin]`` or ``KEY=V1,V2,...`` → (key, list of floats)."""
     if "=" not in text:
@@ -86,8 +91,8 @@ def parse_over(text: str):
             if len(parts) not in (3, 4) or (len(parts) == 4 and parts[3] not in ("log", "lin")):
                 raise ValueError("expected START:STOP:NUM[:log|lin]")
             a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
-            if n < 1:
-                raise ValueError(f"NUM = {n} must be >= 1")
+            if not 1 <= n <= MAX_POINTS:
+                raise ValueError(f"NUM = {n} is outside [1, {MAX_POINTS}]")
             if len(parts) == 4 and parts[3] == "log":
                 if a <= 0 or b <= 0:
                     raise ValueError("log spacing needs START, STOP > 0")
@@ -109,6 +114,32 @@ def _section_keys(raw: dict, sec: str) -> dict:
         kind = raw[sec].get("kind") if isinstance(raw.get(sec), dict) else None
         spec = KINDS[sec].get(kind, {})
     return spec or {}
+
+
+def _check_axes(raw: dict, keys: list, over: list, workers) -> None:
+    """The sweep's axes and workers before any point is built: each key swept once, at most
+    :data:`MAX_POINTS` points, at least one worker."""
+    dup = sorted({k for k in keys if keys.count(k) > 1})
+    if dup:
+        raise SceneError(f"--over: {', '.join(dup)} swept more than once (one --over per key)")
+    n = int(np.prod([len(v) for _, v in over], dtype=float))
+    if n > MAX_POINTS:
+        raise SceneError(f"--over: {n:.3g} points ({' × '.join(str(len(v)) for _, v in over)})"
+                         f" is more than {MAX_POINTS}; split the study into several sweeps")
+    if workers is not None and workers < 1:
+        raise SceneError(f"--workers: {workers} must be >= 1 (default: all cores)")
+
+
+def _typed(raw: dict, key: str, value: float):
+    """A swept value as its key's type: a whole number for an integer key (``surface.seed``,
+    ``grid.Nx``), refused if it is not one."""
+    sec, name = key.split(".", 1)
+    spec = _section_keys(raw, sec).get(name)
+    if spec is not None and spec.type == "integer":
+        if not float(value).is_integer():
+            raise SceneError(f"--over {key}: {value:g} is not a whole number")
+        return int(value)
+    return value
 
 
 def resolve_key(raw: dict, key: str) -> str:
@@ -349,10 +380,11 @@ def run_sweep(scene_file, over: list, out, *, overrides: dict | None = None,
     raw = read_scene_file(scene_file)
     base = Path(scene_file).resolve().parent
     keys = [resolve_key(raw, k) for k, _ in over]
+    _check_axes(raw, keys, over, workers)
     names = [k.split(".")[-1] for k in keys]
     if len(set(names)) != len(names):
         names = [k.replace(".", "_") for k in keys]
-    grids = [list(v) for _, v in over]
+    grids = [[_typed(raw, k, x) for x in v] for k, (_, v) in zip(keys, over, strict=True)]
     points = [dict(zip(keys, combo, strict=True)) for combo in itertools.product(*grids)]
     # validate every point before any heavy work
     problems = []

@@ -152,6 +152,19 @@ CLI = [
     (["sweep", CASE, "--over", "zeta=-1,1", "-o", "{tmp}/s.nc"],
      ["point 0", "sinusoid.zeta", "-1.0"]),
     (["plot", "{tmp}/none.nc"], ["none.nc", "does not exist"]),
+    # refused before any point is built (1e8 points took 24 GB before being killed)
+    (["sweep", CASE, "--over", "zeta=1:2:100000000", "-o", "{tmp}/s.nc"],
+     ["NUM = 100000000", "[1, 100000]"]),
+    (["sweep", CASE, "--over", "zeta=1:2:1000", "--over", "p_tilde=0:0.2:1000", "-o",
+      "{tmp}/s.nc"], ["1e+06 points", "1000 × 1000", "100000"]),
+    (["sweep", CASE, "--over", "zeta=0.1,1", "--over", "zeta=0.2,2", "-o", "{tmp}/s.nc"],
+     ["sinusoid.zeta", "swept more than once"]),
+    (["sweep", CASE, "--over", "zeta=0.1,1", "--workers", "-2", "-o", "{tmp}/s.nc"],
+     ["--workers", "-2", ">= 1"]),
+    (["sweep", "cases/rubber_rough.toml", "--over", "surface.seed=1.5,2", "-o", "{tmp}/s.nc"],
+     ["surface.seed", "1.5 is not a whole number"]),
+    (["run", CASE, "-o", "{tmp}"], ["is not a regular file"]),
+    (["run", "{tmp}/copy.toml", "-o", "{tmp}/copy.toml"], ["copy.toml", "is the input"]),
 ]
 
 
@@ -159,6 +172,7 @@ CLI = [
 def test_cli_bad_input(argv, words, tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(__import__("pathlib").Path(__file__).resolve().parent.parent)
     (tmp_path / "bad.toml").write_text("[sinusoid\nzeta = 1")
+    (tmp_path / "copy.toml").write_text(open(CASE).read())
     args = [a.replace("{tmp}", str(tmp_path)) for a in argv]
     assert cli.main(args) == 1
     err = capsys.readouterr().err
@@ -171,3 +185,16 @@ def test_catalogue_size():
     from tests.test_scenes import MALFORMED
 
     assert len(API) + len(CLI) + len(MALFORMED) >= 40 + 20
+
+
+def test_swept_integer_keys_are_integers():
+    """A swept integer key (``surface.seed``, ``grid.Nx``) takes whole numbers as integers
+    (the schema refused the floats a range or list parses to); other keys keep floats."""
+    from spectralbem.scenes import read_scene_file
+    from spectralbem.sweep import _typed
+
+    raw = read_scene_file("cases/rubber_rough.toml")
+    seed = _typed(raw, "surface.seed", 2.0)
+    assert seed == 2 and isinstance(seed, int)
+    assert isinstance(_typed(raw, "grid.Nx", 64.0), int)
+    assert isinstance(_typed(raw, "motion.speed", 1e-3), float)

@@ -462,3 +462,18 @@ def test_unverified_points_are_crossed_out(results):
     assert [t.get_text() for t in first.get_legend().get_texts()] == [NOT_VERIFIED]
     crosses = [ln for ln in first.get_lines() if ln.get_marker() == "x"]
     assert len(crosses) == 1 and list(crosses[0].get_xdata()) == [500.0]
+
+
+def test_sweep_counts_the_states_it_could_not_verify(tmp_path):
+    """`spectralbem sweep` exits 2 and says how many states are not verified (as `run` does
+    for one), counting every point and step of the written dataset."""
+    import xarray as xr
+
+    from spectralbem.cli import _unverified
+
+    path = tmp_path / "s.nc"
+    xr.Dataset({"status": (("point", "step"), [["partial", "not_converged"],
+                                               ["detached", "full_contact"]])}).to_netcdf(path)
+    assert _unverified(path) == (1, 4)
+    xr.Dataset({"a": ((), 1.0)}).to_netcdf(tmp_path / "n.nc")
+    assert _unverified(tmp_path / "n.nc") == (0, 0)

@@ -141,7 +141,7 @@ def test_solve_contact_falls_back_to_the_active_set(monkeypatch):
     real = newton.newton_contact
 
     def stalls(*a, **k):
-        return real(*a, **k, max_outer=1)
+        return real(*a, **{**k, "max_outer": 1})
 
     monkeypatch.setattr(newton, "newton_contact", stalls)
     res = contact.solve_contact(op, h, **kw)
@@ -158,3 +158,21 @@ def test_newton_is_the_default_for_sliding_and_reports_its_work():
     assert res.diagnostics["fft_pairs"] > res.iterations > 0
     with pytest.raises(contact.ContactError, match="method = 'pk'"):
         contact.solve_contact(op, h, method="pk", **control("load", h))
+
+
+def test_max_iterations_guards_the_viscoelastic_solve():
+    """``solver.max_iterations`` is the contact solver's guard for a viscoelastic slab too
+    (Newton steps and the active set's updates, at most 200): one step cannot settle the
+    rough rubber's contact set, so the state is not_converged, not the default's partial
+    (the guard was once passed to Polonsky–Keer only)."""
+    from pathlib import Path
+
+    import spectralbem as sb
+    from spectralbem.scenes import load_scene
+
+    case = Path(__file__).parents[1] / "cases" / "rubber_rough.toml"
+    small = {"grid.Nx": 32, "grid.Ny": 32, "surface.cutoff_wavelength": 1.25e-4}
+    assert sb.solve(load_scene(case, overrides=small)).status.item() == "partial"
+    ds = sb.solve(load_scene(case, overrides={**small, "solver.max_iterations": 1}))
+    assert ds.status.item() == "not_converged"
+    assert "1 outer iterations" in ds.attrs["solver_message"]

@@ -132,18 +132,18 @@ def _run(args) -> int:
 
 
 def _sweep(args) -> int:
-    from .scenes import load_scene
     from .sweep import SweepInterrupted, parse_over, run_sweep
 
     out = Path(args.output)
     _check_output(out, [args.scene])
     over = [parse_over(o) for o in args.over]
-    _plausible(load_scene(args.scene, overrides=_overrides(args.set)), args.strict)
     t = time.perf_counter()
     try:
         path = run_sweep(args.scene, over, out, overrides=_overrides(args.set),
                          scheduler=args.scheduler, workers=args.workers,
-                         progress=not args.quiet, dashboard=args.dashboard)
+                         progress=not args.quiet, dashboard=args.dashboard,
+                         history=_history(args.argv), strict=args.strict,
+                         on_warning=lambda m: print(f"warning: {m}", file=sys.stderr))
     except SweepInterrupted as exc:  # Ctrl-C: one line, the finished points are on disk
         print(f"spectralbem sweep: interrupted: {exc}", file=sys.stderr)
         return 130

@@ -50,6 +50,7 @@ from .io import (
     sha256_file,
     write_dataset,
 )
+from .plausibility import scene_warnings
 from .scenes import apply_overrides, load_scene, read_scene_file
 from .schema import KINDS, SECTIONS, SceneError
 from .sweep_parts import (  # noqa: F401  (SweepError is part of this module's interface)
@@ -193,10 +194,13 @@ def _run_point(raw, base, overrides, index, digest, part):
     """Worker task: solve one point and persist it atomically; returns (part path, sha256)."""
     import dask
 
+    from .plausibility import PlausibilityWarning
     from .scenes import solve
 
     scene = load_scene(raw, overrides=overrides, base_dir=base)
-    ds = _point_variables(solve(scene))
+    with warnings.catch_warnings():  # the driver reported them when it validated the points
+        warnings.simplefilter("ignore", PlausibilityWarning)
+        ds = _point_variables(solve(scene))
     ds.attrs.update(sweep_index=index, sweep_digest=digest)
     # xarray asks dask for its scheduler when it writes: inside a worker that would open a
     # client back to the scheduler (one per worker, left unclosed when a sweep is stopped)
@@ -303,7 +307,7 @@ def _shutdown(client, cluster, futs) -> None:
             signal.signal(signal.SIGINT, old)
 
 
-def _assemble(files, names, keys, grids, raw, digest, version):
+def _assemble(files, names, keys, grids, raw, digest, version, history=None):
     """One Dataset of every point: dims (*swept, step) for a path, (*swept) otherwise."""
     import datetime as _dt
 
@@ -362,16 +366,21 @@ def _assemble(files, names, keys, grids, raw, digest, version):
                  scene=json.dumps(raw, default=str), spectralbem_version=version,
                  created_utc=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
     res.attrs.update({k: v for k, v in attrs.items() if isinstance(v, (str, int, float))})
-    return cf_attributes(res)
+    return cf_attributes(res, history=history)
 
 
 def run_sweep(scene_file, over: list, out, *, overrides: dict | None = None,
               scheduler: str | None = None, workers: int | None = None,
-              progress: bool = True, retries: int = 2, dashboard: bool = False):
+              progress: bool = True, retries: int = 2, dashboard: bool = False,
+              history: str | None = None, strict: bool = False, on_warning=None):
     """Run (or resume) a sweep; returns the path of the assembled dataset.
 
     ``over``: list of (key, values); keys are 'section.key' or a bare name unique in the scene.
     ``dashboard``: serve the dask dashboard of the local cluster on 127.0.0.1 (default: off).
+    ``history``: the CF history line of the command (the dataset's ``history``).
+    Every point is validated first, with its plausibility warnings (each message once):
+    ``strict`` refuses the sweep on them, else ``on_warning(text)`` (default
+    :func:`warnings.warn`) reports them.
     Raises :class:`SweepInterrupted` on Ctrl-C (finished points are kept).
     """
     from . import __version__
@@ -386,15 +395,23 @@ def run_sweep(scene_file, over: list, out, *, overrides: dict | None = None,
         names = [k.replace(".", "_") for k in keys]
     grids = [[_typed(raw, k, x) for x in v] for k, (_, v) in zip(keys, over, strict=True)]
     points = [dict(zip(keys, combo, strict=True)) for combo in itertools.product(*grids)]
-    # validate every point before any heavy work
-    problems = []
+    # validate every point before any heavy work, with its plausibility warnings
+    problems, implausible = [], {}
     for i, pt in enumerate(points):
         try:
-            load_scene(apply_overrides(raw, overrides), overrides=pt, base_dir=base)
+            scene = load_scene(apply_overrides(raw, overrides), overrides=pt, base_dir=base)
         except SceneError as exc:
             problems += [f"point {i} ({pt}): {p}" for p in exc.problems]
+            continue
+        for m in scene_warnings(scene):
+            implausible.setdefault(m, i)
     if problems:
         raise SceneError(problems)
+    if implausible and strict:
+        raise SceneError([f"implausible (--strict), point {i}: {m}"
+                          for m, i in implausible.items()])
+    for m, i in implausible.items():
+        (on_warning or warnings.warn)(f"point {i} (and maybe others): {m}")
     folder = out.parent
     if not folder.is_dir() or not os.access(folder, os.W_OK):
         raise OSError(f"output folder {str(folder)!r} does not exist or is not writable")
@@ -421,7 +438,9 @@ def run_sweep(scene_file, over: list, out, *, overrides: dict | None = None,
                 allpt = [{**(overrides or {}), **pt} for pt in points]
                 _compute(todo, allpt, raw, base, digest, files, manifest, points, parts,
                          scheduler, workers, progress, retries, dashboard)
-            res = _assemble(files, names, keys, grids, raw, digest, __version__)
+            # the scene as run: the file with --set applied (the swept keys at their base)
+            res = _assemble(files, names, keys, grids, apply_overrides(raw, overrides),
+                            digest, __version__, history)
             return write_dataset(res, out)
         except KeyboardInterrupt as exc:
             if isinstance(exc, SweepInterrupted):

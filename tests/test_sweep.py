@@ -148,3 +148,34 @@ def test_sweep_on_an_existing_scheduler(tmp_path, ref6):
                         scheduler=cluster.scheduler_address, progress=False)
         assert len(cluster.scheduler.workers) == 1  # still up
     assert_matches(read_dataset(out), ref6[4:])
+
+
+def test_sweep_dataset_records_the_scene_as_run_and_the_command(tmp_path):
+    """The assembled dataset's ``scene`` holds the file with its --set values (a rerun needs
+    them: it held the file alone) and ``history`` the command."""
+    import json
+
+    from spectralbem.sweep import run_sweep
+
+    out = tmp_path / "g.nc"
+    path = run_sweep(CASE, [("zeta", [0.1, 1.0])], out, overrides={"sinusoid.Gamma": 0.05},
+                     workers=1, progress=False, history="2026-11-28: spectralbem sweep test")
+    ds = read_dataset(path)
+    assert json.loads(ds.attrs["scene"])["sinusoid"]["Gamma"] == 0.05
+    assert "spectralbem sweep test" in ds.attrs["history"]
+
+
+def test_strict_sweep_checks_every_point(tmp_path):
+    """``--strict`` refuses a sweep on the plausibility warnings of its points (it checked the
+    unswept base scene): the rough SLS case at 64² is plausible at its own speed here, a
+    swept speed of 1e-6 m/s puts vτ = 1e-8 m far below two cells."""
+    from spectralbem.schema import SceneError
+    from spectralbem.sweep import run_sweep
+
+    rough = Path(__file__).resolve().parent.parent / "cases" / "rough_convergence.toml"
+    ov = {"grid.Nx": 64, "grid.Ny": 64, "surface.cutoff_wavelength": 2e-4,
+          "adhesion.a0": 1.5625e-5, "motion.speed": 5e-3}
+    with pytest.raises(SceneError, match=r"implausible \(--strict\), point 0: motion.speed"):
+        run_sweep(rough, [("motion.speed", [1e-6, 1e-2])], tmp_path / "s.nc", overrides=ov,
+                  strict=True, progress=False)
+    assert not (tmp_path / "s.nc.parts").exists()  # refused before any work

@@ -105,15 +105,22 @@ def _run(args) -> int:
     from .plausibility import PlausibilityWarning, state_warnings
     from .scenes import load_scene, solve
     from .schema import SceneError
+    from .solving import PathInterrupted
 
     out = Path(args.output)
     _check_output(out, [args.scene])  # before any heavy work
     scene = load_scene(args.scene, overrides=_overrides(args.set))
     _plausible(scene, args.strict)
     t = time.perf_counter()
-    with warnings.catch_warnings():  # printed above
-        warnings.simplefilter("ignore", PlausibilityWarning)
-        ds = solve(scene, progress=not args.quiet)
+    try:
+        with warnings.catch_warnings():  # printed above
+            warnings.simplefilter("ignore", PlausibilityWarning)
+            ds = solve(scene, progress=not args.quiet)
+    except PathInterrupted as exc:  # Ctrl-C on a load path: the finished steps are kept
+        cf_attributes(exc.dataset, history=_history(args.argv))
+        write_dataset(exc.dataset, out)
+        print(f"spectralbem run: interrupted: {exc} (kept in {out})", file=sys.stderr)
+        return 130
     ds.attrs["wall_time_s"] = time.perf_counter() - t
     cf_attributes(ds, history=_history(args.argv))
     write_dataset(ds, out)

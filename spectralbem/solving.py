@@ -466,6 +466,15 @@ def _substepped(scene: Scene, ds, state, carried, prev, v, progress):
     return ds, state, 1
 
 
+class PathInterrupted(KeyboardInterrupt):
+    """Ctrl-C during a load path after some steps finished: ``dataset`` holds those steps
+    (a ``step`` dimension, as the whole path's), for the caller to keep."""
+
+    def __init__(self, dataset, steps: int):
+        super().__init__(f"{dataset.sizes.get('step', 1)} of {steps} path steps finished")
+        self.dataset = dataset
+
+
 def solve(scene: Scene, *, mask0=None, progress: bool = False):
     """Solve a scene; returns an xarray Dataset.
 
@@ -512,10 +521,16 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
                 ds["substeps"] = ((), k, _attrs(SCALARS["substeps"]))
             prev = v if _status(ds) == "partial" else None
             out.append(ds)
+    except KeyboardInterrupt:
+        if len(steps) == 1 or not out:
+            raise
+        interrupted = True  # the finished steps are returned with the exception (below)
+    else:
+        interrupted = False
     finally:
         for b in reversed(bars):
             b.close()
-    if len(out) == 1:
+    if len(steps) == 1:
         ds = out[0]
     else:
         name = scene.control[0]
@@ -525,7 +540,7 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
             d["solver_message"] = ((), str(msg), {"units": "1",
                                                   "long_name": "solver message of the step"})
         ds = xr.concat(out, dim="step", combine_attrs="drop_conflicts", data_vars="all")
-        vals = np.asarray(scene.control[1], float)
+        vals = np.asarray(scene.control[1], float)[:len(out)]
         if scene.kind == "sinusoid" and name == "mean_pressure":
             name, vals = "p_tilde", vals / 0.5
         ds = ds.assign_coords(step=("step", np.arange(len(out)), {"units": "1",
@@ -546,5 +561,7 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
         scene=json.dumps(_spec_as_solved(scene), sort_keys=True, default=str),
         conventions="spectralbem.conventions: SI units; u into the slab, p compressive "
                     "positive; seed Fourier convention (Im E < 0 for ω > 0)")
+    if interrupted:
+        raise PathInterrupted(cf_attributes(ds), len(steps))
     warn(scene, ds)
     return cf_attributes(ds)

@@ -477,3 +477,30 @@ def test_sweep_counts_the_states_it_could_not_verify(tmp_path):
     assert _unverified(path) == (1, 4)
     xr.Dataset({"a": ((), 1.0)}).to_netcdf(tmp_path / "n.nc")
     assert _unverified(tmp_path / "n.nc") == (0, 0)
+
+
+def test_interrupted_path_keeps_its_finished_steps(tmp_path, monkeypatch, capsys):
+    """Ctrl-C during the third step of a load path: `run` writes the two finished steps (a
+    `step` dimension, their control values) and exits 130, as a sweep keeps its points."""
+    import xarray as xr
+
+    from spectralbem import solving
+    from spectralbem.io import read_dataset
+
+    def fake(scene, state, progress=None):
+        p = scene.mean_pressure
+        if p == 5e2:
+            raise KeyboardInterrupt
+        ds = xr.Dataset({"status": ((), "partial"), "mean_pressure": ((), p)})
+        ds.attrs["solver_message"] = "fake"
+        return ds, None
+
+    monkeypatch.setattr(solving, "_solve_one", fake)
+    case = Path(__file__).resolve().parent.parent / "cases" / "jkr_sphere.toml"
+    out = tmp_path / "path.nc"
+    assert cli.main(["run", str(case), "-o", str(out), "-q"]) == 130  # loads 1e3, 2e3, 5e2 ...
+    assert "2 of 5 path steps finished" in capsys.readouterr().err
+    ds = read_dataset(out)
+    assert list(ds.control_value.values) == [1e3, 2e3]
+    assert list(ds.status.values) == ["partial", "partial"]
+    assert "history" in ds.attrs

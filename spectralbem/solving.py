@@ -410,8 +410,8 @@ def _solve_one(scene: Scene, state, progress=None):
 #: control where it fails, at most this many times (steps down to 1/2**SUBSTEP_HALVINGS of
 #: the jump; docs/theory.md, load-path steps).  A detachment is the path's once it happens
 #: over the smallest step: a jump of the load can carry the front past a branch that a
-#: quasi-static path follows (the JKR sphere at 128² from −150 to −230 Pa, above its pull-off
-#: of −235.6 Pa, detached in one step; from −200 Pa it stays in contact)
+#: quasi-static path follows (the JKR sphere at 256² from −150 to −230 Pa, above its pull-off
+#: of −235.6 Pa, detached in one step; in two it stays in contact, tests/test_scenes.py)
 SUBSTEP_HALVINGS = 3
 
 

@@ -117,7 +117,7 @@ def _section_keys(raw: dict, sec: str) -> dict:
     return spec or {}
 
 
-def _check_axes(raw: dict, keys: list, over: list, workers) -> None:
+def _check_axes(keys: list, over: list, workers) -> None:
     """The sweep's axes and workers before any point is built: each key swept once, at most
     :data:`MAX_POINTS` points, at least one worker."""
     dup = sorted({k for k in keys if keys.count(k) > 1})
@@ -389,7 +389,7 @@ def run_sweep(scene_file, over: list, out, *, overrides: dict | None = None,
     raw = read_scene_file(scene_file)
     base = Path(scene_file).resolve().parent
     keys = [resolve_key(raw, k) for k, _ in over]
-    _check_axes(raw, keys, over, workers)
+    _check_axes(keys, over, workers)
     names = [k.split(".")[-1] for k in keys]
     if len(set(names)) != len(names):
         names = [k.replace(".", "_") for k in keys]

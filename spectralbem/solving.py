@@ -178,12 +178,22 @@ def _solve_seed_grid(scene: Scene, mask0=None, progress=None):
 # -- physical scenes -------------------------------------------------------------------------
 def _spec_as_solved(scene: Scene) -> dict:
     """The scene mapping of the dataset, with the defaults a scene decides (None in the
-    schema) as the solve took them: ``solver.extrapolate_a0`` of an adhesive grid scene."""
-    solver = scene.spec.get("solver")
-    if solver is None or solver.get("extrapolate_a0") is not None or not scene.adhesive \
-            or scene.model != "grid2d":
-        return scene.spec
-    return dict(scene.spec, solver=dict(solver, extrapolate_a0=scene.extrapolate_a0))
+    schema) as the solve took them: ``solver.extrapolate_a0`` of an adhesive grid scene; the
+    keys left unset (None) are left out, so that ``load_scene`` of the recorded mapping
+    reruns the same scene (it refuses a None)."""
+    spec = scene.spec
+    solver = spec.get("solver")
+    if not (solver is None or solver.get("extrapolate_a0") is not None or not scene.adhesive
+            or scene.model != "grid2d"):
+        spec = dict(spec, solver=dict(solver, extrapolate_a0=scene.extrapolate_a0))
+    return _without_none(spec)
+
+
+def _without_none(d):
+    """A copy of the nested mapping ``d`` without its None values."""
+    if not isinstance(d, dict):
+        return d
+    return {k: _without_none(v) for k, v in d.items() if v is not None}
 
 
 def _operator(scene: Scene) -> SpectralOperator:

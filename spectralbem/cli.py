@@ -105,7 +105,7 @@ def _run(args) -> int:
     from .plausibility import PlausibilityWarning, state_warnings
     from .scenes import load_scene, solve
     from .schema import SceneError
-    from .solving import PathInterrupted
+    from .solving import REPORTED, PathInterrupted
 
     out = Path(args.output)
     _check_output(out, [args.scene])  # before any heavy work
@@ -135,7 +135,7 @@ def _run(args) -> int:
     print(f"{Path(args.scene).name}: model {ds.attrs['model']}, status "
           + ", ".join(f"{s} ({STATUS_MEANING.get(s, s)})" for s in seen)
           + f", {ds.attrs['wall_time_s']:.2f} s -> {out}")
-    return 0 if all(s in ("partial", "full_contact", "detached") for s in status) else 2
+    return 0 if all(s in REPORTED for s in status) else 2
 
 
 def _sweep(args) -> int:
@@ -166,11 +166,13 @@ def _unverified(path) -> tuple:
     import numpy as np
     import xarray as xr
 
+    from .solving import REPORTED
+
     with xr.open_dataset(path) as ds:
         if "status" not in ds:
             return 0, 0
         status = [str(x) for x in np.ravel(ds["status"].values)]
-    return sum(x not in ("partial", "full_contact", "detached") for x in status), len(status)
+    return sum(x not in REPORTED for x in status), len(status)
 
 
 def _refine(args) -> int:

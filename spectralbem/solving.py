@@ -446,7 +446,7 @@ def _halved(scene: Scene, v0, v1, state, depth: int, progress, first=None):
     status = _status(ds)
     if (status == "partial" and s is not None) or (status == "detached" and depth == 0):
         return ds, s, 1
-    if depth == 0 or state is None:  # (from a detached state: no branch to follow)
+    if depth == 0:
         return ds, s, 0
     mid = 0.5 * (v0 + v1)
     dm, sm, km = _halved(scene, v0, mid, state, depth - 1, progress)

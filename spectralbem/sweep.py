@@ -396,10 +396,11 @@ def run_sweep(scene_file, over: list, out, *, overrides: dict | None = None,
     grids = [[_typed(raw, k, x) for x in v] for k, (_, v) in zip(keys, over, strict=True)]
     points = [dict(zip(keys, combo, strict=True)) for combo in itertools.product(*grids)]
     # validate every point before any heavy work, with its plausibility warnings
+    spec = apply_overrides(raw, overrides)  # the scene as run, the swept keys at their base
     problems, implausible = [], {}
     for i, pt in enumerate(points):
         try:
-            scene = load_scene(apply_overrides(raw, overrides), overrides=pt, base_dir=base)
+            scene = load_scene(spec, overrides=pt, base_dir=base)
         except SceneError as exc:
             problems += [f"point {i} ({pt}): {p}" for p in exc.problems]
             continue
@@ -438,9 +439,7 @@ def run_sweep(scene_file, over: list, out, *, overrides: dict | None = None,
                 allpt = [{**(overrides or {}), **pt} for pt in points]
                 _compute(todo, allpt, raw, base, digest, files, manifest, points, parts,
                          scheduler, workers, progress, retries, dashboard)
-            # the scene as run: the file with --set applied (the swept keys at their base)
-            res = _assemble(files, names, keys, grids, apply_overrides(raw, overrides),
-                            digest, __version__, history)
+            res = _assemble(files, names, keys, grids, spec, digest, __version__, history)
             return write_dataset(res, out)
         except KeyboardInterrupt as exc:
             if isinstance(exc, SweepInterrupted):

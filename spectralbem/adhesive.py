@@ -27,7 +27,7 @@ import numpy as np
 
 from . import coarse
 from .contact import sliding_direction
-from .conventions import control
+from .conventions import control, shown
 from .criterion import SMOOTHING_PER_RADIUS
 from .fft import with_fft_threads_only
 from .front_iteration import FrontIteration
@@ -65,17 +65,17 @@ def _check_inputs(cell, penetration, mean_pressure, dgamma, a0, criterion, front
         raise ValueError(f"dgamma map has shape {dg.shape}, the grid is {cell.shape}")
     if not np.all(np.isfinite(dg)) or np.any(dg < 0) or not np.any(dg > 0):
         raise ValueError(f"dgamma (work of adhesion, J/m²) must be finite, >= 0 and somewhere "
-                         f"> 0; got min {dg.min()!r}, max {dg.max()!r}")
+                         f"> 0; got min {shown(dg.min())}, max {shown(dg.max())}")
     hmin = min(cell.hx, cell.hy)
     a0_max = 0.5 * max(cell.Lx, cell.Ly)
     if not (hmin * (1 - 1e-9) <= a0 <= a0_max):
-        raise ValueError(f"a0 = {a0!r} m is outside the allowed range [{hmin!r}, {a0_max!r}] "
-                         "m (one cell to half the cell)")
+        raise ValueError(f"a0 = {shown(a0)} m is outside the allowed range [{shown(hmin)}, "
+                         f"{shown(a0_max)}] m (one cell to half the cell)")
     if criterion not in ("exact", "hybrid", "predictor"):
         raise ValueError(f"criterion = {criterion!r}; allowed: 'exact', 'hybrid', 'predictor'")
     top = front_tol_max(a0 / hmin)
     if not (0.0 < front_tol <= top):
-        raise ValueError(f"front_tol = {front_tol!r} cells is outside the allowed range "
+        raise ValueError(f"front_tol = {shown(front_tol)} cells is outside the allowed range "
                          f"(0, {top:g}] (0.5 cells or half of a0 = {a0 / hmin:g} cells)")
     return dg
 
@@ -148,7 +148,7 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
     h = check_heights(heights, cell)
     _check_inputs(cell, penetration, mean_pressure, dgamma, a0, criterion, front_tol)
     if band_tol is not None and not (0.0 < band_tol <= BAND_TOL_MAX):
-        raise ValueError(f"band_tol = {band_tol!r} is outside the allowed range "
+        raise ValueError(f"band_tol = {shown(band_tol)} is outside the allowed range "
                          f"(0, {BAND_TOL_MAX:g}]")
     if extrapolate_a0:
         _check_extrapolation(op, a0)

@@ -28,6 +28,8 @@ import functools
 
 import numpy as np
 
+from .conventions import shown
+
 #: smallest bound (relative to the kernel) of an image term that is summed
 IMAGE_TOL = 2e-4
 
@@ -40,7 +42,7 @@ def _b(m: int) -> float:
 def images(tol: float = IMAGE_TOL) -> tuple:
     """The image offsets (mx, my) summed at tolerance ``tol`` (symmetric under m → −m)."""
     if not 0.0 < tol < 1.0:
-        raise ValueError(f"tol = {tol!r} must lie in (0, 1)")
+        raise ValueError(f"tol = {shown(tol)} must lie in (0, 1)")
     reach = int(np.ceil(0.5 + (1.0 / (np.pi**2 * tol)) ** (1 / 3))) + 1
     out = []
     for mx in range(-reach, reach + 1):

@@ -82,9 +82,22 @@ def _overrides(items) -> dict:
     return out
 
 
-def _check_output(path: Path, inputs=()):
+#: the suffix of the datasets ``run``, ``sweep`` and ``refine`` write (netCDF)
+DATASET_SUFFIXES = (".nc",)
+DATASET_HINT = " (the output is a netCDF dataset; draw it with spectralbem plot)"
+
+
+def _image_suffixes() -> tuple:
+    """The suffixes ``plot -o`` can write (matplotlib's formats)."""
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    return tuple(sorted(f".{k}" for k in FigureCanvasBase.get_supported_filetypes()))
+
+
+def _check_output(path: Path, inputs=(), suffixes=(), hint: str = ""):
     """Before any heavy work: the output's folder exists and is writable, and the output is
-    not an existing folder, device or pipe, nor one of the command's ``inputs``."""
+    not an existing folder, device or pipe, nor one of the command's ``inputs``; with
+    ``suffixes``, its suffix is one of them (any case; ``hint`` ends the message)."""
     import os
 
     folder = path.parent if str(path.parent) else Path(".")
@@ -98,6 +111,10 @@ def _check_output(path: Path, inputs=()):
     for f in inputs:
         if path.exists() and Path(f).exists() and path.samefile(f):
             raise OSError(f"output {str(path)!r} is the input {str(f)!r}; give another name")
+    if suffixes and path.suffix.lower() not in suffixes:
+        got = f"the suffix {path.suffix!r}" if path.suffix else "no suffix"
+        raise ValueError(f"-o {str(path)!r} has {got}; allowed suffix"
+                         f"{'es' if len(suffixes) > 1 else ''}: {', '.join(suffixes)}{hint}")
 
 
 def _run(args) -> int:
@@ -108,7 +125,7 @@ def _run(args) -> int:
     from .solving import REPORTED, PathInterrupted
 
     out = Path(args.output)
-    _check_output(out, [args.scene])  # before any heavy work
+    _check_output(out, [args.scene], DATASET_SUFFIXES, DATASET_HINT)  # before any heavy work
     scene = load_scene(args.scene, overrides=_overrides(args.set))
     _plausible(scene, args.strict)
     t = time.perf_counter()
@@ -142,7 +159,7 @@ def _sweep(args) -> int:
     from .sweep import SweepInterrupted, parse_over, run_sweep
 
     out = Path(args.output)
-    _check_output(out, [args.scene])
+    _check_output(out, [args.scene], DATASET_SUFFIXES, DATASET_HINT)
     over = [parse_over(o) for o in args.over]
     t = time.perf_counter()
     try:
@@ -181,7 +198,7 @@ def _refine(args) -> int:
     from .scenes import load_scene, read_scene_file
 
     out = Path(args.output)
-    _check_output(out, [args.scene])
+    _check_output(out, [args.scene], DATASET_SUFFIXES, DATASET_HINT)
     ov = _overrides(args.set)
     finest = resolution_overrides(read_scene_file(args.scene), ov, args.sizes, args.a0_cells,
                                   Path(args.scene).resolve().parent)[-1]
@@ -229,7 +246,7 @@ def _plot(args) -> int:
                              f"[0, {n - 1}] (negative counts from the end)")
         ds = ds.isel(step=args.step)
     out = Path(args.output) if args.output else path.with_suffix(".png")
-    _check_output(out, [path])  # before rendering
+    _check_output(out, [path], _image_suffixes())  # before rendering
     plot_dataset(ds, out)
     print(f"wrote {out}")
     return 0
@@ -274,7 +291,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = cmd("run", "solve one scene file", "Solve a scene (TOML) and write a netCDF dataset. "
             "Exit code 2 when a state did not converge (the dataset is still written).")
     p.add_argument("scene", help="scene file (TOML); see docs/user_guide.md")
-    p.add_argument("-o", "--output", required=True, help="netCDF output path")
+    p.add_argument("-o", "--output", required=True, help="netCDF output path (.nc)")
     p.add_argument("--set", action="append", metavar="SECTION.KEY=VALUE",
                    help="override a scene value (repeatable)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
@@ -292,7 +309,7 @@ def build_parser() -> argparse.ArgumentParser:
                    metavar="KEY=START:STOP:NUM[:log]|KEY=V1,V2,...",
                    help="swept key (section.key, or a bare key unique in the scene); "
                         "repeatable")
-    p.add_argument("-o", "--output", required=True, help="netCDF output path")
+    p.add_argument("-o", "--output", required=True, help="netCDF output path (.nc)")
     p.add_argument("--set", action="append", metavar="SECTION.KEY=VALUE",
                    help="override a scene value (repeatable)")
     p.add_argument("--scheduler", help="address of an existing dask scheduler (anyone who can "
@@ -316,7 +333,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scene", help="scene file (TOML) with a generated surface")
     p.add_argument("--sizes", type=int, nargs="+", required=True, metavar="N",
                    help="resolutions, growing by a constant ratio (e.g. 128 256 512)")
-    p.add_argument("-o", "--output", required=True, help="netCDF output path")
+    p.add_argument("-o", "--output", required=True, help="netCDF output path (.nc)")
     p.add_argument("--set", action="append", metavar="SECTION.KEY=VALUE",
                    help="override a scene value (repeatable)")
     p.add_argument("--a0-cells", type=float, metavar="K",
@@ -329,7 +346,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = cmd("plot", "plot a result dataset", "Plot a dataset: contact maps, fields and a "
             "profile cut (one state), a path, the curves of a sweep, or a grid refinement.")
     p.add_argument("dataset", help="netCDF result file")
-    p.add_argument("-o", "--output", help="PNG path (default: dataset name with .png)")
+    p.add_argument("-o", "--output", help="image path: .png, .pdf, .svg, ... (default: "
+                   "dataset name with .png)")
     p.add_argument("--step", type=int, metavar="K",
                    help="of a load path: the state figure of step K (default: the path's "
                         "curves and the contact map of each step)")

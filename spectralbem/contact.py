@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from .conventions import control
+from .conventions import control, shown
 from .fft import with_fft_threads_only
 from .masked import solve_masked
 from .spectral import SpectralOperator
@@ -86,7 +86,7 @@ def _check_controls(heights, op, mean_pressure, penetration):
                       {"mean_pressure": "(0, inf)"})
     if name == "mean_pressure" and v <= 0:
         raise ContactError(
-            f"mean_pressure = {v!r} must be > 0 for adhesiveless contact (allowed (0, inf))")
+            f"mean_pressure = {shown(v)} must be > 0 for adhesiveless contact (allowed (0, inf))")
     if name == "penetration":
         check_penetration(op.layer, op.material.nu, h, [v])
     return h
@@ -112,9 +112,9 @@ def check_penetration(layer, nu: float, heights, values) -> None:
                f"{type(layer).__name__}: the q = 0 mode is dropped")
         more = f" (and {len(bad) - 1} more values)" if len(bad) > 1 else ""
         raise ContactError(
-            f"penetration = {float(bad[0])!r}{more} admits no equilibrium: the mean "
-            f"displacement is 0 ({why}), so Δ must be < max(h) - mean(h) = {limit!r} "
-            f"(allowed (-inf, {limit!r}))")
+            f"penetration = {shown(float(bad[0]))}{more} admits no equilibrium: the mean "
+            f"displacement is 0 ({why}), so Δ must be < max(h) - mean(h) = {shown(limit)} "
+            f"(allowed (-inf, {shown(limit)}))")
 
 
 def full_contact(op, h, mean_pressure=None, penetration=None):

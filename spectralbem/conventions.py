@@ -33,7 +33,26 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["control", "p_star", "gamma_from_dgamma", "dgamma_from_gamma"]
+__all__ = ["control", "p_star", "gamma_from_dgamma", "dgamma_from_gamma", "plain", "shown"]
+
+
+def plain(value):
+    """``value`` with numpy scalars as Python numbers (and arrays, tuples and lists of them as
+    tuples and lists of Python numbers); anything else unchanged."""
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, (list, tuple)) and any(isinstance(x, (np.generic, np.ndarray, list,
+                                                                   tuple)) for x in value):
+        return type(value)(plain(x) for x in value) if type(value) in (list, tuple) else value
+    return value
+
+
+def shown(value) -> str:
+    """A value as error messages quote it: its repr, numpy scalars as plain numbers (numpy 2
+    writes ``np.float64(1.0)``; messages write ``1.0``)."""
+    return repr(plain(value))
 
 
 def control(mean_pressure=None, penetration=None, error=ValueError, allowed=None) -> tuple:
@@ -52,7 +71,7 @@ def control(mean_pressure=None, penetration=None, error=ValueError, allowed=None
         v = float("nan")
     if not np.isfinite(v):
         rng = (allowed or {}).get(name, "(-inf, inf)")
-        raise error(f"{name} = {value!r} must be a finite number (allowed {rng})")
+        raise error(f"{name} = {shown(value)} must be a finite number (allowed {rng})")
     return name, v
 
 

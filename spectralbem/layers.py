@@ -23,6 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .conventions import shown
+
 __all__ = ["Layer", "HalfSpace", "GluedLayer", "PressureLayer", "s_glued", "s_pressure",
            "LayerError"]
 
@@ -113,7 +115,7 @@ class HalfSpace(Layer):
 def _check_d(d) -> float:
     d = float(d)
     if not np.isfinite(d) or d <= 0:
-        raise LayerError(f"d = {d!r} (layer thickness) must be a finite number > 0")
+        raise LayerError(f"d = {shown(d)} (layer thickness) must be a finite number > 0")
     return d
 
 

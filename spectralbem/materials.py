@@ -24,6 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .conventions import shown
+
 __all__ = ["Material", "Elastic", "StandardLinearSolid", "Prony", "Tabulated", "MaterialError"]
 
 
@@ -34,14 +36,14 @@ class MaterialError(ValueError):
 def _check_nu(nu: float) -> float:
     nu = float(nu)
     if not np.isfinite(nu) or not (-1.0 < nu <= 0.5):
-        raise MaterialError(f"nu = {nu!r} is outside the allowed range (-1, 0.5]")
+        raise MaterialError(f"nu = {shown(nu)} is outside the allowed range (-1, 0.5]")
     return nu
 
 
 def _check_positive(name: str, value: float) -> float:
     value = float(value)
     if not np.isfinite(value) or value <= 0.0:
-        raise MaterialError(f"{name} = {value!r} must be a finite number > 0")
+        raise MaterialError(f"{name} = {shown(value)} must be a finite number > 0")
     return value
 
 
@@ -115,7 +117,8 @@ class StandardLinearSolid(Material):
         object.__setattr__(self, "nu", _check_nu(self.nu))
         if self.Einf < self.E0:
             raise MaterialError(
-                f"Einf = {self.Einf!r} must be >= E0 = {self.E0!r} (glassy modulus is the larger)"
+                f"Einf = {shown(self.Einf)} must be >= E0 = {shown(self.E0)} (glassy modulus is "
+                "the larger)"
             )
 
     @property
@@ -223,27 +226,28 @@ class Tabulated(Material):
             if not np.all(np.isfinite(arr)):
                 raise MaterialError(f"{name} contains NaN or inf; all entries must be finite")
         if np.any(w <= 0):
-            raise MaterialError(f"omega min = {w.min()!r}: frequencies must be > 0")
+            raise MaterialError(f"omega min = {shown(w.min())}: frequencies must be > 0")
         if np.any(np.diff(w) <= 0):
             i = int(np.argmax(np.diff(w) <= 0))
             raise MaterialError(
-                f"omega is not strictly increasing at row {i + 1} ({w[i]!r} -> {w[i + 1]!r})"
+                f"omega is not strictly increasing at row {i + 1} ({shown(w[i])} -> "
+                f"{shown(w[i + 1])})"
             )
         if np.any(s <= 0):
-            raise MaterialError(f"storage min = {s.min()!r}: storage modulus must be > 0")
+            raise MaterialError(f"storage min = {shown(s.min())}: storage modulus must be > 0")
         peak = np.maximum.accumulate(s)
         drop = s[1:] < (1.0 - STORAGE_NOISE) * peak[:-1]
         if np.any(drop):  # measured tables scatter: drops within STORAGE_NOISE are kept
             i = int(np.argmax(drop))
             raise MaterialError(
-                f"storage decreases at row {i + 2} ({s[i + 1]!r} after a maximum of "
-                f"{peak[i]!r}, {1 - s[i + 1] / peak[i]:.1%} lower): a passive, causal material "
-                f"has a non-decreasing storage modulus (measurement scatter up to "
+                f"storage decreases at row {i + 2} ({shown(s[i + 1])} after a maximum of "
+                f"{shown(peak[i])}, {1 - s[i + 1] / peak[i]:.1%} lower): a passive, causal "
+                f"material has a non-decreasing storage modulus (measurement scatter up to "
                 f"{STORAGE_NOISE:.0%} is accepted)"
             )
         if np.any(l_ < 0):
             raise MaterialError(
-                f"loss min = {l_.min()!r}: a negative loss modulus is non-causal (active); "
+                f"loss min = {shown(l_.min())}: a negative loss modulus is non-causal (active); "
                 "the allowed range is >= 0 (engineering convention)"
             )
         object.__setattr__(self, "omega", tuple(w))
@@ -310,11 +314,11 @@ def _check_sls(m: dict, grid: dict, problems: list) -> None:
 
     if m.get("E0") and m.get("Einf"):
         if m["Einf"] < m["E0"]:
-            problems.append(f"material.Einf: {m['Einf']!r} Pa is below material.E0 = "
-                            f"{m['E0']!r} Pa; allowed [E0, inf)")
+            problems.append(f"material.Einf: {shown(m['Einf'])} Pa is below material.E0 = "
+                            f"{shown(m['E0'])} Pa; allowed [E0, inf)")
         elif m["Einf"] > STIFFENING * m["E0"]:
-            problems.append(f"material.Einf: {m['Einf']!r} Pa is more than {STIFFENING:g} "
-                            f"times material.E0 = {m['E0']!r} Pa; allowed [E0, "
+            problems.append(f"material.Einf: {shown(m['Einf'])} Pa is more than {STIFFENING:g} "
+                            f"times material.E0 = {shown(m['E0'])} Pa; allowed [E0, "
                             f"{STIFFENING * m['E0']:g}] Pa")
 
 
@@ -327,7 +331,7 @@ def _check_prony(m: dict, grid: dict, problems: list) -> None:
                             f"has {len(m['moduli'])}; they must match")
         if m.get("E_eq") and sum(m["moduli"]) > (STIFFENING - 1) * m["E_eq"]:
             problems.append(f"material.moduli: their sum {sum(m['moduli']):g} Pa is more than "
-                            f"{STIFFENING:g} times material.E_eq = {m['E_eq']!r} Pa; allowed "
+                            f"{STIFFENING:g} times material.E_eq = {shown(m['E_eq'])} Pa; allowed "
                             f"a sum in (0, {(STIFFENING - 1) * m['E_eq']:g}] Pa")
 
 

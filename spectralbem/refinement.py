@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .conventions import shown
 from .io import read_dataset, write_dataset
 from .schema import SceneError
 
@@ -131,7 +132,7 @@ def _check_a0_cells(spec: dict, a0_cells, base) -> None:
     from .scenes import load_scene
 
     if not (isinstance(a0_cells, (int, float)) and 1 <= a0_cells <= 64):
-        raise SceneError(f"--a0-cells: {a0_cells!r} must be a number of cells in [1, 64]")
+        raise SceneError(f"--a0-cells: {shown(a0_cells)} must be a number of cells in [1, 64]")
     scene = load_scene(spec, base_dir=base)
     if not scene.adhesive:
         raise SceneError("--a0-cells: the scene has no adhesion (adhesion.dgamma = 0): "
@@ -146,7 +147,7 @@ def _check_sizes(sizes) -> list:
     try:
         sizes = sorted(int(n) for n in sizes)
     except (TypeError, ValueError):
-        raise SceneError(f"--sizes: {sizes!r} must be whole numbers of cells") from None
+        raise SceneError(f"--sizes: {shown(sizes)} must be whole numbers of cells") from None
     if len(set(sizes)) < 2:
         raise SceneError(f"--sizes: {sizes} must hold at least two different resolutions "
                          "(three for an error estimate)")

@@ -29,6 +29,7 @@ import numpy as np
 
 from . import kinds
 from .contact import ContactError, check_penetration
+from .conventions import shown
 from .keys import EXTRAPOLATE_MIN_CELLS, extrapolable
 from .layers import HalfSpace, LayerError
 from .materials import Elastic, Material, MaterialError, StandardLinearSolid
@@ -42,6 +43,7 @@ from .schema import (
 )
 from .spectral import Cell, GridError
 from .surfaces import (
+    TEXT_SUFFIXES,
     SurfaceError,
     check_input_file,
     file_limit,
@@ -240,8 +242,12 @@ def load_scene(source, *, overrides: dict | None = None, base_dir=None) -> Scene
     else:
         raw = source
         base = Path(base_dir or ".").resolve()
-    raw = _grid_from_file(apply_overrides(raw, overrides), base)
+    raw, unread = _grid_from_file(apply_overrides(raw, overrides), base)
     spec, problems = validate(raw)
+    if unread:  # the grid keys left out were to come from the file: its failure is the cause
+        why, keys = unread
+        problems = [why] + [p for p in problems if not p.startswith((
+            "grid: missing section", *(f"grid.{k}: missing" for k in keys)))]
     if problems:
         raise SceneError(problems)
     if "sinusoid" in spec:
@@ -249,22 +255,39 @@ def load_scene(source, *, overrides: dict | None = None, base_dir=None) -> Scene
     return _build_physical(spec, base)
 
 
-def _grid_from_file(raw: dict, base: Path) -> dict:
+#: the grid keys a height map may give (Nx, Ny: its shape; Lx, Ly: a stated size)
+_FROM_FILE = ("Nx", "Ny", "Lx", "Ly")
+#: height-map formats that state no size (Lx, Ly are never taken from them)
+_NO_SIZE = (".npy", *TEXT_SUFFIXES)
+
+
+def _grid_from_file(raw: dict, base: Path) -> tuple:
     """A height-map scene may leave out the grid: Nx, Ny default to the map's shape and Lx,
     Ly to the size the file states (netCDF coordinates); keys given are kept (and checked
-    against the file later).  A file that cannot be read is left to the normal checks."""
+    against the file later).  Returns (scene, unread): unread is None, or, when keys were left
+    out for the file to give and it cannot be read, (the problem ``surface.path: ...`` naming
+    the file and why, the keys it was to give); other problems are left to the checks."""
     sf, g = raw.get("surface"), raw.get("grid", {})
     if not (isinstance(sf, dict) and sf.get("kind") == "file" and isinstance(g, dict)
             and isinstance(sf.get("path"), str)) or all(
-            g.get(k) is not None for k in ("Lx", "Ly", "Nx", "Ny")):
-        return raw
+            g.get(k) is not None for k in _FROM_FILE):
+        return raw, None
+    sized = Path(sf["path"]).suffix.lower() not in _NO_SIZE
+    keys = [k for k in _FROM_FILE if g.get(k) is None and (sized or k in ("Nx", "Ny"))]
     try:
         scale = sf.get("scale", 1.0)
         h, size = read_heights(base / sf["path"], variable=sf.get("variable", "heights"),
                                scale=scale if isinstance(scale, (int, float)) else 1.0,
                                max_bytes=file_limit(65536**2))
-    except (SurfaceError, TypeError, ValueError, OSError):
-        return raw
+    except (SurfaceError, OSError) as exc:
+        why = str(exc) if isinstance(exc, SurfaceError) else (
+            f"cannot read height map {short(str(base / sf['path']))}: {exc.strerror or exc}")
+        left = ", ".join(f"grid.{k}" for k in keys) + (" is" if len(keys) == 1 else " are")
+        return raw, (f"surface.path: {why.rstrip('.')}; {left} left out, to be taken from the "
+                     "height map, so it must be readable (or give them in [grid])",
+                     keys) if keys else None
+    except (TypeError, ValueError):  # a key of the wrong type: the schema names it
+        return raw, None
     out = dict(raw)
     out["grid"] = g = dict(g)
     g.setdefault("Nx", int(h.shape[0]))
@@ -272,7 +295,7 @@ def _grid_from_file(raw: dict, base: Path) -> dict:
     if size is not None:
         g.setdefault("Lx", size[0])
         g.setdefault("Ly", size[1])
-    return out
+    return out, None
 
 
 #: peak memory of a grid solve per cell (bytes), with a margin (docs/performance.md, scaling)
@@ -444,7 +467,7 @@ def _dgamma_map(adh: dict, cell: Cell, base: Path, problems: list):
     if not ok.all():
         i = tuple(int(j) for j in np.argwhere(~ok)[0])
         problems.append(f"adhesion.dgamma_map: {int((~ok).sum())} values outside the allowed "
-                        f"range {key.range_text()} J/m² (first {dg[i]!r} at index {i})")
+                        f"range {key.range_text()} J/m² (first {shown(dg[i])} at index {i})")
         return None
     return dg
 

@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 import re
 
+from .conventions import plain, shown
 from .keys import (  # noqa: F401 (re-exported: the schema's vocabulary)
     BAND_TOL_MAX,
     DELAYED,
@@ -53,7 +54,7 @@ def short(v, limit: int = SHORT) -> str:
     r.maxstring = r.maxother = limit
     r.maxlist = r.maxdict = r.maxtuple = 8
     r.maxlevel = 3
-    text = r.repr(v)
+    text = r.repr(plain(v))
     if isinstance(v, str) and len(v) > limit:
         text += f" ({len(v)} characters)"
     elif isinstance(v, (list, dict)) and len(v) > 8:
@@ -418,7 +419,7 @@ def _check_seed(out, problems):
         if n and a0 is not None and (s.get("Gamma") or 0) > 0:
             hc = 2 * math.pi / n
             if a0 < hc * (1 - 1e-9):
-                problems.append(f"sinusoid.a0_tilde: {a0!r} is smaller than one cell "
+                problems.append(f"sinusoid.a0_tilde: {shown(a0)} is smaller than one cell "
                                 f"({hc:.4g}) of the grid model; allowed [{hc:.4g}, 1]")
             else:
                 _check_front_tol(out, a0 / hc, problems)
@@ -430,8 +431,15 @@ def _check_front_tol(out, a0_cells: float, problems) -> None:
     ft = (out.get("solver") or {}).get("front_tol")
     top = front_tol_max(a0_cells)
     if ft is not None and ft > top:
-        problems.append(f"solver.front_tol: {ft!r} cells is larger than half of a0 "
+        problems.append(f"solver.front_tol: {shown(ft)} cells is larger than half of a0 "
                         f"({a0_cells:.4g} cells); allowed (0, {top:.4g}]")
+
+
+def _reported(problems: list, *paths: str) -> bool:
+    """Whether a problem of one of the keys ``paths`` is already reported (the key is then
+    None in the validated scene: the rules below must not call it missing)."""
+    return any(p.startswith(k) and p[len(k):len(k) + 1] in (":", " ", "[")
+               for p in problems for k in paths)
 
 
 def _check_physical(out, problems):
@@ -440,39 +448,43 @@ def _check_physical(out, problems):
     for sec in ("surface", "material", "layer"):
         if out.get(sec):
             _check_kind(sec, out[sec], g, problems)
-    if "control" in out and (ctl.get("mean_pressure") is None) == (ctl.get("penetration") is None):
+    if "control" in out and (ctl.get("mean_pressure") is None) == (
+            ctl.get("penetration") is None) and not _reported(
+            problems, "control.mean_pressure", "control.penetration"):
         problems.append("control.mean_pressure / control.penetration: give exactly one")
     if mot.get("velocity") is not None:
         if len(mot["velocity"]) != 2:
-            problems.append(f"motion.velocity: {mot['velocity']!r} must have two entries "
+            problems.append(f"motion.velocity: {shown(mot['velocity'])} must have two entries "
                             "(vx, vy) in m/s")
         if mot.get("speed") is not None:
             problems.append("motion.velocity / motion.speed: give one of them, not both")
     dg = adh.get("dgamma") or 0.0
     adhesive = dg > 0 or adh.get("dgamma_map") is not None
-    if adhesive and adh.get("a0") is None:
+    # a Δγ that failed its check: whether the scene is adhesive is unknown
+    unknown = _reported(problems, "adhesion.dgamma", "adhesion.dgamma_map")
+    if adhesive and adh.get("a0") is None and not _reported(problems, "adhesion.a0"):
         problems.append("adhesion.a0: missing (required when Δγ > 0): the advance width in m, "
                         "at least one cell")
     mp = ctl.get("mean_pressure")
-    if not adhesive and mp is not None:
+    if not adhesive and not unknown and mp is not None:
         vals = mp if isinstance(mp, list) else [mp]
         if any(v is not None and v <= 0 for v in vals):
-            problems.append(f"control.mean_pressure: {mp!r} Pa; without adhesion the mean "
+            problems.append(f"control.mean_pressure: {shown(mp)} Pa; without adhesion the mean "
                             "pressure must be > 0 (allowed (0, 1e12])")
     if g.get("Lx") and g.get("Nx") and g.get("Ly") and g.get("Ny"):
         hmin = min(g["Lx"] / g["Nx"], g["Ly"] / g["Ny"])
         a0 = adh.get("a0")
         if adhesive and a0 is not None:
             if a0 < hmin * (1 - 1e-9):
-                problems.append(f"adhesion.a0: {a0!r} m is smaller than one cell ({hmin:.4g} "
+                problems.append(f"adhesion.a0: {shown(a0)} m is smaller than one cell ({hmin:.4g} "
                                 f"m); allowed [{hmin:.4g}, {0.5 * max(g['Lx'], g['Ly']):.4g}] m")
             elif a0 > 0.5 * max(g["Lx"], g["Ly"]):
-                problems.append(f"adhesion.a0: {a0!r} m is larger than half the cell; allowed "
+                problems.append(f"adhesion.a0: {shown(a0)} m is larger than half the cell; allowed "
                                 f"[{hmin:.4g}, {0.5 * max(g['Lx'], g['Ly']):.4g}] m")
             else:
                 _check_front_tol(out, a0 / hmin, problems)
         fr = adh.get("flaw_radius")
         if adhesive and fr is not None and fr > 0.5 * max(g["Lx"], g["Ly"]):
             # a flaw wider than the cell would open the whole contact at once
-            problems.append(f"adhesion.flaw_radius: {fr!r} m is larger than half the cell; "
+            problems.append(f"adhesion.flaw_radius: {shown(fr)} m is larger than half the cell; "
                             f"allowed (0, {0.5 * max(g['Lx'], g['Ly']):.4g}] m")

@@ -17,6 +17,7 @@ import numpy as np
 
 from . import __version__
 from .contact import sliding_direction
+from .conventions import shown
 from .io import FIELDS, SCALARS, cf_attributes
 from .io import attrs as _attrs
 from .keys import DELAYED_DEFAULT, FRONT_TOL
@@ -69,9 +70,10 @@ def _friction(op, h, p, u, state) -> dict:
 
 def _verify(status: str, message: str, scene: Scene, mask) -> tuple:
     """A status is a promise: (status, message) after the checks a reported state must pass.
-    ``detached`` needs a zero pressure field that carries the prescribed load and leaves no
-    interpenetration: no compressive load, Δ ≤ 0; an adhesiveless solve that converged
-    without a contact cell is that state."""
+    ``detached`` is a zero pressure field that leaves no interpenetration: no compressive
+    load, Δ ≤ 0; an adhesiveless solve that converged without a contact cell is that state.
+    It carries no load: a tensile load prescribed is not carried (the message says so; the
+    dataset reports the load carried, 0, and the prescribed one as ``prescribed_*``)."""
     if status == "partial" and not np.any(mask):
         status = "detached"
     if status != "detached":
@@ -87,6 +89,10 @@ def _verify(status: str, message: str, scene: Scene, mask) -> tuple:
         return "not_converged", (f"no equilibrium found: the contact vanished at the "
                                  f"penetration {pen} > 0, where a detached state "
                                  f"interpenetrates (solver: {message})")
+    if scene.mean_pressure is not None and scene.mean_pressure < 0:
+        load = f"p̃ = {scene.mean_pressure / 0.5:g}" if seed else f"{scene.mean_pressure:g} Pa"
+        message += (f"; the prescribed tensile mean pressure {load} is not carried (a "
+                    "detached state carries no load: the mean pressure reported is 0)")
     return status, message
 
 
@@ -167,7 +173,7 @@ def _solve_seed_grid(scene: Scene, mask0=None, progress=None):
     status, info["message"] = _undefined(status, info["message"], out)
     if status == "partial" and not out["a_tilde"] > 0:
         status, info["message"] = "not_converged", (
-            f"the contact edges give ã = {out['a_tilde']!r} ≤ 0, so the state is not "
+            f"the contact edges give ã = {shown(out['a_tilde'])} ≤ 0, so the state is not "
             f"reported as partial; solver: {info['message']}")
     ds = seed_dataset(cell, out, status, p / pstar, mask,
                       G_front if status == "partial" else None)
@@ -370,7 +376,7 @@ def _solve_1d(scene: Scene, guess=None):
     phys = scene.kind == "physical"
     d = _dimensionless_groups(scene) if phys else dict(scene.params, k=1.0, amp=1.0, pstar=0.5)
     if not 0.0 <= d["a0_tilde"] <= 1.0:
-        raise SceneError(f"adhesion.a0: k a0 = {d['a0_tilde']!r} is outside the 1D method's "
+        raise SceneError(f"adhesion.a0: k a0 = {shown(d['a0_tilde'])} is outside the 1D method's "
                          "range [0, 1]")
     pt = None if scene.mean_pressure is None else scene.mean_pressure / d["pstar"]
     dt = None if scene.penetration is None else scene.penetration / d["amp"]
@@ -492,7 +498,11 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
     ``p_tilde``, ``delta_tilde``, ``mu_bar``, ``mu_bar_adhesive``, ``G1_over_dgamma``,
     ``G2_over_dgamma``, ``status``); physical scenes SI names (``mean_pressure``, ``mu``,
     ``G1``, ...).  A path scene returns a ``step`` dimension.  Attributes: the model that ran,
-    the scene (JSON), package version, UTC timestamp, FFT backend and threads, solver message.
+    the scene (JSON), package version, UTC timestamp, FFT backend and threads, solver message
+    and the prescribed control, ``prescribed_mean_pressure`` or ``prescribed_penetration``
+    (seed scenes ``prescribed_p_tilde`` or ``prescribed_delta_tilde``; a path: the coordinate
+    ``control_value``).  The scalars are what the state carries: a detached state carries no
+    load (mean pressure 0 under a tensile prescribed load).
     """
     import xarray as xr
 
@@ -542,6 +552,12 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
             b.close()
     if len(steps) == 1:
         ds = out[0]
+        name = scene.control[0] if scene.control else (
+            "mean_pressure" if scene.mean_pressure is not None else "penetration")
+        v = float(steps[0])
+        if scene.kind == "sinusoid":  # the seed's names: p̃ = p/p* (p* = 1/2), Δ̃ = Δ/Λ (Λ = 1)
+            name, v = ("p_tilde", v / 0.5) if name == "mean_pressure" else ("delta_tilde", v)
+        ds.attrs[f"prescribed_{name}"] = v  # the state's scalars are what it carries
     else:
         name = scene.control[0]
         for d in out:  # per-step solver messages survive the concatenation as a variable

@@ -32,6 +32,7 @@ import numpy as np
 
 from . import backend as _backend
 from .cell_average import delayed_kernel
+from .conventions import shown
 from .keys import DELAYED, DELAYED_DEFAULT
 from .layers import HalfSpace, Layer
 from .materials import Material
@@ -56,11 +57,11 @@ class Cell:
         for name in ("Lx", "Ly"):
             v = getattr(self, name)
             if not np.isfinite(v) or v <= 0:
-                raise GridError(f"{name} = {v!r} must be a finite length > 0")
+                raise GridError(f"{name} = {shown(v)} must be a finite length > 0")
         for name, lo in (("Nx", 4), ("Ny", 1)):
             v = getattr(self, name)
             if int(v) != v or v < lo or v > 65536:
-                raise GridError(f"{name} = {v!r} must be an integer in [{lo}, 65536]")
+                raise GridError(f"{name} = {shown(v)} must be an integer in [{lo}, 65536]")
             object.__setattr__(self, name, int(v))
 
     # -- geometry ---------------------------------------------------------------------------
@@ -168,7 +169,8 @@ class SpectralOperator:
         self.layer = HalfSpace() if layer is None else layer
         v = np.asarray(velocity, dtype=float).reshape(-1)
         if v.shape != (2,) or not np.all(np.isfinite(v)):
-            raise GridError(f"velocity = {velocity!r} must be two finite numbers (vx, vy) in m/s")
+            raise GridError(f"velocity = {shown(velocity)} must be two finite numbers (vx, vy) "
+                            "in m/s")
         self.velocity = v
         self.viscoelastic = (not material.is_elastic) and bool(np.any(v != 0))
         self.threads = threads

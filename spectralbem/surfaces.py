@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .conventions import shown
 from .spectral import Cell
 
 __all__ = ["sinusoid", "bisinusoid", "paraboloid", "self_affine", "from_npy", "read_heights",
@@ -26,7 +27,7 @@ class SurfaceError(ValueError):
 def _finite_positive(name, v):
     v = float(v)
     if not np.isfinite(v) or v <= 0:
-        raise SurfaceError(f"{name} = {v!r} must be a finite number > 0")
+        raise SurfaceError(f"{name} = {shown(v)} must be a finite number > 0")
     return v
 
 
@@ -41,7 +42,7 @@ def sinusoid(cell: Cell, amplitude: float, wavelength: float | None = None) -> n
     n = cell.Lx / lam
     if abs(n - round(n)) > 1e-9 or round(n) < 1:
         raise SurfaceError(
-            f"wavelength = {lam!r} must divide Lx = {cell.Lx!r} a whole number of times")
+            f"wavelength = {shown(lam)} must divide Lx = {shown(cell.Lx)} a whole number of times")
     X, _ = cell.coordinates()
     return amplitude * np.cos(2 * np.pi * X / lam)
 
@@ -94,28 +95,38 @@ def self_affine(cell: Cell, hurst: float, *, rolloff: float, cutoff: float,
     round-off.  A cut-off the grid cannot hold raises SurfaceError.
     """
     if not (0.0 < hurst < 1.0):
-        raise SurfaceError(f"hurst = {hurst!r} must lie in (0, 1)")
+        raise SurfaceError(f"hurst = {shown(hurst)} must lie in (0, 1)")
     rolloff = _finite_positive("rolloff", rolloff)
     cutoff = _finite_positive("cutoff", cutoff)
     if cutoff <= rolloff:
-        raise SurfaceError(f"cutoff = {cutoff!r} must exceed rolloff = {rolloff!r}")
+        raise SurfaceError(f"cutoff = {shown(cutoff)} must exceed rolloff = {shown(rolloff)}")
     if (rms_height is None) == (rms_slope is None):
         raise SurfaceError("give exactly one of rms_height, rms_slope")
     reach = cutoff * (1 + BAND_RTOL) / (2 * np.pi)
     Kx, Ky = int(np.floor(cell.Lx * reach)), int(np.floor(cell.Ly * reach))
     if Kx == Ky == 0:
         lo = 2 * np.pi / max(cell.Lx, cell.Ly)
-        raise SurfaceError(f"cutoff = {cutoff!r} rad/m is below the cell's lowest wavevector "
+        raise SurfaceError(f"cutoff = {shown(cutoff)} rad/m is below the cell's lowest wavevector "
                            f"2π/max(Lx, Ly) = {lo:.6g} rad/m: no mode lies in the band")
     for axis, L, N, K in (("x", cell.Lx, cell.Nx, Kx), ("y", cell.Ly, cell.Ny, Ky)):
         if 2 * K + 1 > N:
             hi = 2 * np.pi * ((N - 1) // 2 + 1) / L  # the first |q| the grid cannot hold
             edge = f"the Nyquist wavevector π/h{axis}" if N % 2 == 0 else f"π/h{axis} + π/L{axis}"
+            if hi <= rolloff:  # no cutoff above the roll-off fits: say why, not (a, b ≤ a)
+                strip = (f" (N{axis} = 1 is a {axis}-invariant strip: it holds k{axis} = 0 "
+                         f"only, so the band must stay below 2π/L{axis})" if N == 1 else "")
+                also = f", or L{axis} < 2π/cutoff = {2 * np.pi / cutoff:.6g} m" if N == 1 else ""
+                raise SurfaceError(
+                    f"cutoff = {shown(cutoff)} rad/m needs modes up to |k{axis}| = {K}, i.e. "
+                    f"N{axis} ≥ {2 * K + 1}; the grid (N{axis} = {N}) holds |q{axis}| < "
+                    f"{hi:.10g} rad/m{strip}, not above rolloff = {shown(rolloff)}, so no "
+                    f"cutoff fits: allowed N{axis} in [{2 * K + 1}, 65536] for this cutoff"
+                    f"{also}")
             raise SurfaceError(
-                f"cutoff = {cutoff!r} rad/m needs modes up to |k{axis}| = {K}, i.e. "
+                f"cutoff = {shown(cutoff)} rad/m needs modes up to |k{axis}| = {K}, i.e. "
                 f"N{axis} ≥ {2 * K + 1}; the grid (N{axis} = {N}) holds "
                 f"|k{axis}| ≤ {(N - 1) // 2}: "
-                f"allowed ({rolloff!r}, {hi:.10g}) rad/m, the upper end ({edge}) excluded")
+                f"allowed ({shown(rolloff)}, {hi:.10g}) rad/m, the upper end ({edge}) excluded")
     kx = np.arange(-Kx, Kx + 1)[:, None]
     ky = np.arange(Ky + 1)[None, :]
     q = 2 * np.pi * np.hypot(kx / cell.Lx, ky / cell.Ly)
@@ -279,7 +290,7 @@ def _read_heights(path: Path, variable: str, scale: float):
                 if scale != 1.0:
                     raise SurfaceError(
                         f"height map {_quote(path)} states its unit ({stated!r}); "
-                        f"surface.scale = {scale!r} would scale it twice: leave scale at 1")
+                        f"surface.scale = {shown(scale)} would scale it twice: leave scale at 1")
                 h = np.asarray(h, float) * unit
             if h.ndim == 2 and all(d in da.coords for d in da.dims):
                 size = []
@@ -310,7 +321,7 @@ def _read_heights(path: Path, variable: str, scale: float):
                 if scale != 1.0:
                     raise SurfaceError(
                         f"height map {_quote(path)} states its unit ({stated!r}); "
-                        f"surface.scale = {scale!r} would scale it twice: leave scale at 1")
+                        f"surface.scale = {shown(scale)} would scale it twice: leave scale at 1")
                 h, size = h * unit, tuple(x * unit for x in size)
             else:  # no unit stated: the scale applies to the sizes as to the heights
                 size = tuple(x * scale for x in size)
@@ -337,31 +348,52 @@ def _check_sinusoid(sf: dict, g: dict, problems: list) -> None:
         return
     n = g["Lx"] / sf["wavelength"]
     if not n <= g["Nx"] / 2:  # also inf: a wavelength far below one cell
-        problems.append(f"surface.wavelength: {sf['wavelength']!r} m is shorter than two "
+        problems.append(f"surface.wavelength: {shown(sf['wavelength'])} m is shorter than two "
                         f"cells ({2 * g['Lx'] / g['Nx']:.6g} m); allowed grid.Lx/k m for a "
                         f"whole k in [1, {g['Nx'] // 2}]")
     elif abs(n - round(n)) > 1e-9 or round(n) < 1:
-        problems.append(f"surface.wavelength: {sf['wavelength']!r} m must divide grid.Lx = "
-                        f"{g['Lx']!r} m a whole number of times")
+        problems.append(f"surface.wavelength: {shown(sf['wavelength'])} m must divide grid.Lx = "
+                        f"{shown(g['Lx'])} m a whole number of times")
 
 
 def _check_self_affine(sf: dict, g: dict, problems: list) -> None:
     cut, roll = sf.get("cutoff_wavelength"), sf.get("rolloff_wavelength")
     if roll and cut and all(g.get(k) for k in ("Lx", "Ly", "Nx", "Ny")):
         if cut >= roll:
-            problems.append(f"surface.cutoff_wavelength: {cut!r} m must be shorter than "
-                            f"surface.rolloff_wavelength = {roll!r} m")
+            problems.append(f"surface.cutoff_wavelength: {shown(cut)} m must be shorter than "
+                            f"surface.rolloff_wavelength = {shown(roll)} m")
         # the grid holds modes |k| ≤ (N - 1)//2 along an axis (never the Nyquist mode): the
         # band |k| ≤ L/cut needs cut > L/((N - 1)//2 + 1), 2 cells for an even N (the same
         # rule, and band-edge tolerance 1e-10, as self_affine)
-        lo = max(g[f"L{a}"] / ((g[f"N{a}"] - 1) // 2 + 1) for a in "xy")
+        lows = {a: g[f"L{a}"] / ((g[f"N{a}"] - 1) // 2 + 1) for a in "xy"}
+        ax = max(lows, key=lows.get)
+        lo, L, N = lows[ax], g[f"L{ax}"], g[f"N{ax}"]
         if cut <= lo * (1 + 1e-10):
-            problems.append(f"surface.cutoff_wavelength: {cut!r} m is too short for the grid "
-                            "(at or beyond its Nyquist wavelength, 2 cells for an even N); "
-                            f"allowed ({lo:.6g}, {roll!r}) m, or refine the grid")
+            need = {a: 2 * int(np.floor(g[f"L{a}"] / cut * (1 + 1e-10))) + 1 for a in "xy"
+                    if cut <= lows[a] * (1 + 1e-10)}  # the cells along a that hold cut
+            refine = (" and ".join(f"grid.N{a} in [{n}, 65536]" for a, n in need.items())
+                      + " for this cutoff" if max(need.values()) <= 65536
+                      else f"a cutoff longer than {L / 32768:.6g} m")
+            if lo < roll:
+                problems.append(f"surface.cutoff_wavelength: {shown(cut)} m is too short for "
+                                "the grid (at or beyond its Nyquist wavelength, 2 cells for an "
+                                f"even N); allowed ({lo:.6g}, {shown(roll)}) m, or "
+                                f"{refine}")
+            elif ax == "y" and N == 1:  # the interval would be empty: say why
+                problems.append(f"surface.cutoff_wavelength: {shown(cut)} m does not fit a "
+                                "y-invariant strip (grid.Ny = 1 holds wavevectors along x only: "
+                                f"the cutoff must be longer than grid.Ly = {shown(L)} m, and "
+                                "shorter than surface.rolloff_wavelength = "
+                                f"{shown(roll)} m); allowed {refine}, or grid.Ly < "
+                                f"{shown(cut)} m")
+            else:
+                problems.append(f"surface.cutoff_wavelength: {shown(cut)} m is too short for "
+                                f"the grid: grid.N{ax} = {N} holds no wavelength shorter than "
+                                f"{lo:.6g} m (Nyquist), not below surface.rolloff_wavelength "
+                                f"= {shown(roll)} m, so no cutoff fits; allowed {refine}")
         if roll > max(g["Lx"], g["Ly"]):
-            problems.append(f"surface.rolloff_wavelength: {roll!r} m exceeds the cell; "
-                            f"allowed (0, {max(g['Lx'], g['Ly'])!r}] m")
+            problems.append(f"surface.rolloff_wavelength: {shown(roll)} m exceeds the cell; "
+                            f"allowed (0, {shown(max(g['Lx'], g['Ly']))}] m")
     if (sf.get("rms_height") is None) == (sf.get("rms_slope") is None):
         problems.append("surface.rms_height / surface.rms_slope: give exactly one")
 
@@ -384,8 +416,8 @@ def _build_file(sf: dict, context):
     if size is not None:
         for name, got, want in (("Lx", size[0], cell.Lx), ("Ly", size[1], cell.Ly)):
             if abs(got - want) > 1e-6 * want:
-                problems.append(f"grid.{name}: {want!r} m disagrees with the height map's "
-                                f"physical size {got!r} m")
+                problems.append(f"grid.{name}: {shown(want)} m disagrees with the height map's "
+                                f"physical size {shown(got)} m")
     bad = ~np.isfinite(h)
     if bad.any():
         problems.append(f"surface.path: the height map has {int(bad.sum())} non-finite values "

@@ -2,6 +2,8 @@
 any heavy work, with an error naming the parameter, its value and the allowed range.  The
 scene-file part of the catalogue is ``tests/test_scenes.py::MALFORMED`` (46 entries)."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -41,9 +43,20 @@ API = [
     ("prony mismatch", lambda: Prony(1.0, (1.0, 2.0), (1.0,)), ["moduli has 2", "times has 1"]),
     ("prony E<0", lambda: Prony(1.0, (-1.0,), (1.0,)), ["moduli[0] = -1.0", "> 0"]),
     ("table omega", lambda: Tabulated((1.0, 0.5), (1.0, 2.0), (0.1, 0.1)),
-     ["omega", "strictly increasing"]),
+     ["omega", "strictly increasing", "(1.0 -> 0.5)"]),
     ("table loss<0", lambda: Tabulated((1.0, 2.0), (1.0, 2.0), (-0.1, 0.1)),
-     ["loss", ">= 0"]),
+     ["loss min = -0.1", ">= 0"]),
+    ("table omega<=0", lambda: Tabulated(np.array([0.0, 1.0]), (1.0, 2.0), (0.1, 0.1)),
+     ["omega min = 0.0", "> 0"]),
+    ("table storage drop", lambda: Tabulated((1.0, 2.0, 3.0), (1.0, 2.0, 1.0), (0.1,) * 3),
+     ["storage decreases at row 3 (1.0 after a maximum of 2.0"]),
+    ("E numpy", lambda: Elastic(np.float64(0.0), 0.3), ["E = 0.0", "> 0"]),
+    ("nu numpy", lambda: Elastic(1.0, np.float64(0.7)), ["nu = 0.7", "(-1, 0.5]"]),
+    ("Cell Lx numpy", lambda: Cell(np.float64(-1.0), 1.0, 16, 16), ["Lx = -1.0", "> 0"]),
+    ("load numpy < 0", lambda: solve_contact(OP, H, mean_pressure=np.float64(-0.1)),
+     ["mean_pressure = -0.1", "(0, inf)"]),
+    ("a0 numpy < cell", lambda: solve_adhesive(OP, H, 0.1, np.float64(0.01), mean_pressure=0.1),
+     ["a0 = 0.01", "[0.0625, 0.5]"]),
     ("table file", lambda: Tabulated.from_csv("/nonexistent/e.csv"),
      ["/nonexistent/e.csv", "cannot read"]),
     ("glued d=0", lambda: GluedLayer(0.0), ["d = 0.0", "> 0"]),
@@ -127,6 +140,8 @@ def test_api_bad_input(name, call, words):
     msg = str(err.value)
     for w in words:
         assert w in msg, (w, msg)
+    # values print as plain numbers (numpy 2's repr of a numpy scalar is np.float64(1.0))
+    assert "np.float" not in msg and "np.int" not in msg, msg
 
 
 def test_unwritable_output():
@@ -164,6 +179,13 @@ CLI = [
     (["sweep", "cases/rubber_rough.toml", "--over", "surface.seed=1.5,2", "-o", "{tmp}/s.nc"],
      ["surface.seed", "1.5 is not a whole number"]),
     (["run", CASE, "-o", "{tmp}"], ["is not a regular file"]),
+    # run, sweep and refine write netCDF datasets: an image name is refused before any solve
+    (["run", CASE, "-o", "{tmp}/x.png"], ["-o", "x.png", "'.png'", "allowed suffix: .nc"]),
+    (["run", CASE, "-o", "{tmp}/x"], ["-o", "no suffix", "allowed suffix: .nc"]),
+    (["sweep", CASE, "--over", "zeta=1,2", "-o", "{tmp}/s.png"],
+     ["-o", "s.png", "allowed suffix: .nc"]),
+    (["refine", "cases/rubber_rough.toml", "--sizes", "32", "64", "-o", "{tmp}/r.txt"],
+     ["-o", "r.txt", "allowed suffix: .nc"]),
     (["run", "{tmp}/copy.toml", "-o", "{tmp}/copy.toml"], ["copy.toml", "is the input"]),
 ]
 
@@ -179,6 +201,129 @@ def test_cli_bad_input(argv, words, tmp_path, capsys, monkeypatch):
     assert err.startswith(f"spectralbem {argv[0]}: error:")
     for w in words:
         assert w in err, (w, err)
+    if "allowed suffix: .nc" in words:  # refused before anything is written
+        assert not Path(args[args.index("-o") + 1]).exists()
+
+
+def test_plot_output_is_an_image(tmp_path, capsys):
+    """``plot -o`` writes images (matplotlib's formats), refused otherwise before rendering;
+    ``run -o x.png`` wrote a netCDF file named x.png (refused: test_cli_bad_input)."""
+    import xarray as xr
+
+    ds = tmp_path / "d.nc"
+    xr.Dataset({"status": ((), "partial")}).to_netcdf(ds)
+    assert cli.main(["plot", str(ds), "-o", str(tmp_path / "p.nc")]) == 1
+    err = capsys.readouterr().err
+    for w in ("spectralbem plot: error:", "-o", "p.nc", "allowed suffixes:", ".png", ".pdf"):
+        assert w in err, (w, err)
+    assert not (tmp_path / "p.nc").exists()
+
+
+def _problems(raw, base_dir=None) -> list:
+    from spectralbem.scenes import SceneError, load_scene
+
+    with pytest.raises(SceneError) as err:
+        load_scene(raw, base_dir=base_dir)
+    return err.value.problems
+
+
+ELASTIC = {"kind": "elastic", "E": 1e6}
+
+
+@pytest.mark.parametrize("name, content, grid, words", [
+    ("h.npy", None, {"Lx": 1e-3, "Ly": 1e-3}, ["does not exist", "grid.Nx, grid.Ny are"]),
+    ("h.npy", b"garbage", {"Lx": 1e-3, "Ly": 1e-3},
+     ["cannot read height map", "grid.Nx, grid.Ny are"]),
+    ("h.nc", None, None, ["does not exist", "grid.Nx, grid.Ny, grid.Lx, grid.Ly are"]),
+    ("h.nc", b"garbage", {"Lx": 1e-3, "Ly": 1e-3, "Ny": 16},
+     ["not a readable netCDF file", "grid.Nx is left out"]),
+])
+def test_unreadable_height_map_with_the_grid_left_out(tmp_path, name, content, grid, words):
+    """A height-map scene that leaves grid keys to the file: a file that cannot be read was
+    reported as "grid.Nx: missing"; now the read failure, with the key and the path, alone."""
+    if content is not None:
+        (tmp_path / name).write_bytes(content)
+    raw = {"surface": {"kind": "file", "path": name}, "material": ELASTIC,
+           "control": {"mean_pressure": 1e3}}
+    if grid is not None:
+        raw["grid"] = grid
+    problems = _problems(raw, tmp_path)
+    assert len(problems) == 1, problems
+    assert problems[0].startswith("surface.path: ") and str(tmp_path / name) in problems[0]
+    for w in words:
+        assert w in problems[0], (w, problems)
+    # a .npy map states no size: a missing Lx is still missing
+    problems = _problems({**raw, "grid": {"Ly": 1e-3}}, tmp_path)
+    assert problems[0].startswith("surface.path: ")
+    assert any(p.startswith("grid.Lx: missing") for p in problems) == name.endswith(".npy")
+
+
+ADHESIVE = {"grid": {"Lx": 1e-3, "Ly": 1e-3, "Nx": 32, "Ny": 32},
+            "surface": {"kind": "bisinusoid", "amplitude": 1e-5}, "material": ELASTIC,
+            "control": {"mean_pressure": 1e3}, "adhesion": {"dgamma": 0.05, "a0": 1e-4}}
+
+
+@pytest.mark.parametrize("section, key, value, words", [
+    ("adhesion", "a0", -1.0, ["adhesion.a0: -1.0 is outside the allowed range"]),
+    ("adhesion", "a0", "x", ["adhesion.a0: expected a number in m, got str 'x'"]),
+    ("adhesion", "a0", float("nan"), ["adhesion.a0: nan is not finite"]),
+    ("adhesion", "a0", True, ["adhesion.a0: expected a number in m, got bool True"]),
+    ("control", "mean_pressure", "abc", ["control.mean_pressure: expected a number in Pa"]),
+])
+def test_an_invalid_value_is_reported_once(section, key, value, words):
+    """An invalid adhesion.a0 was reported twice: its own problem and a wrong "adhesion.a0:
+    missing (required when Δγ > 0)"; an invalid mean_pressure also as "give exactly one"."""
+    raw = {k: dict(v) for k, v in ADHESIVE.items()}
+    raw[section][key] = value
+    problems = _problems(raw)
+    assert len(problems) == 1, problems
+    for w in words:
+        assert w in problems[0], (w, problems)
+
+
+def test_an_invalid_dgamma_does_not_make_the_scene_adhesiveless():
+    """Δγ that failed its check: whether the scene is adhesive is unknown, so a tensile
+    load is not refused as "without adhesion" (and a0 is not asked for)."""
+    raw = {k: dict(v) for k, v in ADHESIVE.items()}
+    raw["adhesion"] = {"dgamma": "x"}
+    raw["control"]["mean_pressure"] = -5.0
+    problems = _problems(raw)
+    assert problems == ["adhesion.dgamma: expected a number in J/m², got str 'x'"], problems
+
+
+def test_cutoff_message_on_a_strip_states_a_range():
+    """grid.Ny = 1 (a y-invariant strip) under a self-affine surface: the Nyquist message
+    said "allowed (0.001, 0.00025) m", an empty interval; it now says why no cut-off fits
+    and what would hold it (the scene file and the Python API)."""
+    import re
+
+    from spectralbem.scenes import read_scene_file
+    from spectralbem.surfaces import SurfaceError
+
+    raw = read_scene_file("cases/rubber_rough.toml")
+    for ny, words in ((1, ["y-invariant strip", "grid.Ny = 1", "longer than grid.Ly = 0.001 m",
+                           "allowed grid.Ny in [33, 65536] for this cutoff",
+                           "or grid.Ly < 6.25e-05 m"]),
+                      (8, ["grid.Ny = 8", "no cutoff fits", "allowed grid.Ny in [33, 65536]"]),
+                      (16, ["allowed (0.000125, 0.00025) m", "grid.Ny in [33, 65536]"])):
+        raw["grid"]["Ny"] = ny
+        problems = _problems(raw)
+        assert len(problems) == 1 and problems[0].startswith("surface.cutoff_wavelength: ")
+        for w in words:
+            assert w in problems[0], (w, problems)
+        for lo, hi in re.findall(r"allowed \(([-+.e\d]+), ([-+.e\d]+)\)", problems[0]):
+            assert float(lo) < float(hi), problems  # never an empty interval
+    with pytest.raises(SurfaceError) as err:
+        self_affine(Cell(1e-3, 1e-3, 64, 1), 0.8, rolloff=2 * np.pi / 2.5e-4,
+                    cutoff=2 * np.pi / 6.25e-5, rms_slope=0.1)
+    msg = str(err.value)
+    for w in ("Ny = 1 is a y-invariant strip", "no cutoff fits", "Ny in [33, 65536]",
+              "Ly < 2π/cutoff = 6.25e-05 m"):
+        assert w in msg, (w, msg)
+    raw["grid"].update(Ny=1, Ly=1e-5)  # a narrow strip holds the band: a 1D rough profile
+    from spectralbem.scenes import load_scene
+
+    assert load_scene(raw).heights.shape == (128, 1)
 
 
 def test_catalogue_size():

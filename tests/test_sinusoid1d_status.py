@@ -132,7 +132,9 @@ def test_load_below_pull_off_detaches_on_every_side_of_the_falling_branch():
     assert central < 0
     assert number_after(msg, "dp̃/dã =") == pytest.approx(central, rel=0.05)
     sc = scalars(ds)
-    assert sc["a_tilde"] == 0 and sc["p_tilde"] == -0.2 and not any(map(np.isnan, sc.values()))
+    # a detached state carries no load: p̃ = 0, the prescribed −0.2 recorded beside it
+    assert sc["a_tilde"] == 0 and sc["p_tilde"] == 0 and not any(map(np.isnan, sc.values()))
+    assert ds.attrs["prescribed_p_tilde"] == -0.2
     assert np.all(ds.sigma_tilde.values == 0)
     for p in (-0.15, -0.5):  # the same status on both sides of the falling branch
         assert s1.solve(0.1, BETA, GAMMA, p_tilde=p, a0_tilde=A0,
@@ -167,6 +169,42 @@ def test_statuses_along_the_load_match_johnson():
         pytest.approx(sp["delta_min"], rel=1e-5)
     with pytest.raises(ValueError, match="delta_tilde = 1.0 is outside"):
         s1.solve(0.0, BETA, GAMMA, delta_tilde=1.0, a0_tilde=0.0)
+
+
+def test_detached_under_load_control_reports_the_load_carried_in_1d_and_2d():
+    """A state detached under a tensile prescribed load carries no load.  The grid reported
+    p̃ = 0 and the 1D method the prescribed p̃ (as if carried): both now report the load
+    carried, 0, with a zero pressure field, and record the prescribed value beside it
+    (attribute ``prescribed_p_tilde`` / ``prescribed_mean_pressure``); the grid's message
+    says the prescribed tension is not carried.  Elastic seed, Γ = 0.05, p̃ = −0.5, below
+    Johnson's pull-off (−0.11); the physical 1D scene and a JKR sphere at 32² likewise."""
+    one = s1.solve(0.0, 1.0, 0.05, p_tilde=-0.5, a0_tilde=0.4, adhesiveless_reference=False)
+    grid = sb.solve(sb.Scene.sinusoid(0.0, 1.0, 0.05, p_tilde=-0.5, a0_tilde=0.4,
+                                      cells_per_wavelength=32, ny=2))
+    seed1 = sb.solve(sb.Scene.sinusoid(0.0, 1.0, 0.05, p_tilde=-0.5, a0_tilde=0.4,
+                                       model="sinusoid1d"))
+    for ds in (one, grid, seed1):
+        assert ds.status.item() == "detached"
+        assert ds.p_tilde.item() == 0.0 and ds.attrs["prescribed_p_tilde"] == -0.5
+    assert np.all(one.sigma_tilde.values == 0) and np.all(grid.pressure_tilde.values == 0)
+    assert "prescribed tensile mean pressure p̃ = -0.5 is not carried" in \
+        grid.attrs["solver_message"]
+    # the physical sinusoid at rest (the 1D method), p̃ = −0.48 with p* = 83.8 kPa
+    phys = sb.solve(load_scene(CASES / "sinusoid_physical.toml", overrides={
+        "motion.speed": 0.0, "control.mean_pressure": -4e4}))
+    assert phys.attrs["model"] == "sinusoid1d" and phys.status.item() == "detached"
+    assert phys.mean_pressure.item() == 0.0 and phys.p_tilde.item() == 0.0
+    assert phys.attrs["prescribed_mean_pressure"] == -4e4
+    sphere = sb.solve(load_scene({
+        "grid": {"Lx": 1e-3, "Ly": 1e-3, "Nx": 32, "Ny": 32},
+        "surface": {"kind": "paraboloid", "radius": 1e-3},
+        "material": {"kind": "elastic", "E": 1e6},
+        "adhesion": {"dgamma": 0.05, "a0": 6.25e-5},
+        "control": {"mean_pressure": -400.0}}))
+    assert sphere.status.item() == "detached" and sphere.mean_pressure.item() == 0.0
+    assert sphere.attrs["prescribed_mean_pressure"] == -400.0
+    assert not np.any(sphere.pressure.values)
+    assert "-400 Pa is not carried" in sphere.attrs["solver_message"]
 
 
 def test_falling_equilibrium_alone_is_unstable(monkeypatch):

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..conventions import shown
 from .branches import (
     NXI,
     _Branch,
@@ -17,7 +18,8 @@ from .branches import (
 SCALARS = {
     "a_tilde": "dimensionless contact semi-width k a",
     "e_tilde": "dimensionless eccentricity k e (> 0: toward the leading edge)",
-    "p_tilde": "dimensionless mean pressure 2(1-ν²)p∞/(E0 k Λ)",
+    "p_tilde": "dimensionless mean pressure 2(1-ν²)p∞/(E0 k Λ) carried by the state (0 "
+               "when detached; the prescribed one is the attribute prescribed_p_tilde)",
     "delta_tilde": "dimensionless penetration Δ/Λ (mean-level gauge; detached under load "
                    "control: the Δ/Λ of the pull-off the contact let go at)",
     "mu_bar": "reduced friction coefficient μ/Λ̃, Eq. (19), (22)",
@@ -43,6 +45,8 @@ def solve(zeta: float, beta: float, Gamma: float, *, p_tilde: float | None = Non
     Give exactly one of ``p_tilde`` (load control) and ``delta_tilde`` (displacement control,
     Δ̃ < 1: in the mean-level gauge Δ̃ = 1 is full contact at any load).
     ``a0_tilde`` = k a0 is the advance width of the edge energy balance (0: strict SIF limit).
+    The prescribed value is the attribute ``prescribed_p_tilde`` or ``prescribed_delta_tilde``;
+    the scalars are the state's (a detached state carries no load: p_tilde 0).
     ``guess`` = (k l1, k l2) for continuation.  Scalars: a_tilde, e_tilde, p_tilde,
     delta_tilde, mu_bar, mu_bar_adhesive, G1_over_dgamma, G2_over_dgamma, branch_slope,
     status, and the adhesiveless a, e, μ at the same load; fields sigma_tilde (= σ/p* = -p̃)
@@ -59,9 +63,9 @@ def solve(zeta: float, beta: float, Gamma: float, *, p_tilde: float | None = Non
         raise ValueError("give exactly one of p_tilde (load control) and delta_tilde")
     for name, v in (("p_tilde", p_tilde), ("delta_tilde", delta_tilde)):
         if v is not None and not np.isfinite(v):
-            raise ValueError(f"{name} = {v!r} must be finite")
+            raise ValueError(f"{name} = {shown(v)} must be finite")
     if delta_tilde is not None and delta_tilde >= 1.0:
-        raise ValueError(f"delta_tilde = {delta_tilde!r} is outside the allowed range "
+        raise ValueError(f"delta_tilde = {shown(delta_tilde)} is outside the allowed range "
                          "(-inf, 1): Δ̃ = 1 is full contact at an undetermined load (the mean "
                          "gap vanishes) and no state has Δ̃ > 1; use p_tilde")
     pr = dimensionless_problem(zeta, beta, Gamma, a0_tilde, adhesive=Gamma > 0, modes=modes,
@@ -103,6 +107,8 @@ def solve(zeta: float, beta: float, Gamma: float, *, p_tilde: float | None = Non
     ds.attrs.update(model="sinusoid1d", zeta=float(zeta), beta=float(beta),
                     Gamma=float(Gamma), a0_tilde=float(a0_tilde),
                     control="load" if p_tilde is not None else "displacement",
+                    **{f"prescribed_{name}": float(v) for name, v in (
+                        ("p_tilde", p_tilde), ("delta_tilde", delta_tilde)) if v is not None},
                     modes=pr.M, quad=pr.Q,
                     converged=int(vd.status in ("partial", "full_contact", "detached")),
                     solver_message=vd.reason, residual=float(vd.residual),
@@ -141,9 +147,10 @@ def _closed_form(status: str, p_tilde, delta_tilde, ratio):
 
     Full contact (load control; docs/derivations.md §7): p̃(x) = p̃∞ + Re[(E/E0) e^{ikx}],
     μ/Λ̃ = -Im[E/E0]/(2p̃∞), Δ̃ = 1 (zero-mean gauge: the mean gap Λ - Δ vanishes), no edges
-    (G = 0, no adhesive friction).  Detached: no contact, no pressure, a flat surface, with
-    ``delta_tilde`` the prescribed Δ̃ or, under load control, the Δ̃ of the pull-off (0 without
-    adhesion).  ã does not change with the load: branch_slope 0 (no partial branch)."""
+    (G = 0, no adhesive friction).  Detached: no contact, no pressure, a flat surface: it carries
+    no load (p̃ = 0, also where a tensile p̃ was prescribed), with ``delta_tilde`` the
+    prescribed Δ̃ or, under load control, the Δ̃ of the pull-off (0 without adhesion).  ã does
+    not change with the load: branch_slope 0 (no partial branch)."""
     x = np.linspace(-np.pi, np.pi, NXI)
     if status == "full_contact":
         p = p_tilde + np.real(ratio * np.exp(1j * x))
@@ -151,7 +158,7 @@ def _closed_form(status: str, p_tilde, delta_tilde, ratio):
                     mu_bar=_quotient(-np.imag(ratio), 2 * p_tilde), u=np.cos(x))
     else:
         p = np.zeros(NXI)
-        vals = dict(a_tilde=0.0, e_tilde=0.0, p_tilde=0.0 if p_tilde is None else p_tilde,
+        vals = dict(a_tilde=0.0, e_tilde=0.0, p_tilde=0.0,
                     delta_tilde=delta_tilde, mu_bar=0.0, u=np.zeros(NXI))
     u = vals.pop("u")
     vals.update(mu_bar_adhesive=0.0, G1_over_dgamma=0.0, G2_over_dgamma=0.0,

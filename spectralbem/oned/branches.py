@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import root
 
+from ..conventions import shown
 from ..materials import Elastic, StandardLinearSolid
 from .problem import Sinusoid1D, SolveInfo, State
 
@@ -56,11 +57,11 @@ def _check_inputs(**kw):
         lo, hi, inf_ok = rng[name]
         v = float(value)
         if np.isnan(v) or v < lo or (v > hi and not (inf_ok and np.isinf(v))):
-            raise ValueError(f"{name} = {value!r} is outside the allowed range [{lo}, {hi}]"
+            raise ValueError(f"{name} = {shown(value)} is outside the allowed range [{lo}, {hi}]"
                              + (" or inf" if inf_ok else ""))
         if name == "a0_tilde" and 0.0 < v < A0_MIN:
-            raise ValueError(f"a0_tilde = {value!r} is outside the allowed range: 0 (the strict "
-                             f"limit) or [{A0_MIN:g}, {hi}]; a smaller advance width is not "
+            raise ValueError(f"a0_tilde = {shown(value)} is outside the allowed range: 0 (the "
+                             f"strict limit) or [{A0_MIN:g}, {hi}]; a smaller advance width is not "
                              "resolved by the strip quadrature in double precision")
 
 

@@ -88,6 +88,7 @@ def complete_adjoint(tests, op: SpectralOperator, mask: np.ndarray, p: np.ndarra
                 dLP += _owner_bincount(wt * dLPj, own[cells], owners)
             tests.rate.ravel()[owners] = dLP / area
             weights.append((owners, area))
+    pend["w"] = None  # the prescribed w, needed by the opening solves only: freed here
     _average_rates(tests, weights)
     # G_close = δL/δA − δL_P/δA, both ratios of sums along the front: the balance F is
     # Σ δL / Σ Δγ a − 1 averaged so, δL/δA = Δγ (1 + F)

@@ -40,14 +40,17 @@ def band_widths(b, area, normal, sigma: float, a0: float):
     (moves.offsets): with a0 in their place the offset is too large where the band is
     thinner, and the mask edge over-shoots its balanced edge (a JKR disc's estimated
     radius then falls by 0.12 h per cell of mask radius; with the widths by 0.02 h)."""
-    ds = front_length_weights(normal, *b.spacing)
+    fronts = (b.outer_front, b.inner_front)
+    fidx = np.flatnonzero(fronts[0] | fronts[1])
+    # ds on the front cells, packed (sorted flat cells, values): no N² array of it
+    ds = (fidx, front_length_weights([n.ravel()[fidx] for n in normal], *b.spacing))
     sig = max(sigma, WIDTH_SMOOTHING)
     lo, hi = WIDTH_RANGE
-    fronts = (b.outer_front, b.inner_front)
     oks = [front & (area > 0) for front in fronts]
     # Σ K area / Σ K ds: the ratio area/ds averaged with the weights ds; the smoothing reads
     # only a side's own cells, so each side's result is written over its own front cells
-    np.divide(area, ds, out=area, where=oks[0] | oks[1])
+    sel = (oks[0] | oks[1]).ravel()[fidx]
+    area.ravel()[fidx[sel]] /= ds[1][sel]
     for ok, front in zip(oks, fronts, strict=True):
         smooth_along_front(area, ok, sig, ds, normal, out=area)
         area[front & ~ok] = np.nan
@@ -91,31 +94,43 @@ def layer_weights(b, a0: float, upper: np.ndarray, normal, sigma: float):
     weight θ of criterion.band_split."""
     hx, hy = b.spacing
     a, tol = hx * hy, 1e-9 * min(hx, hy)
-    ds = front_length_weights(normal, hx, hy)
     sig = max(sigma, WIDTH_SMOOTHING)
     out = []
     for owner, dist, front in ((b.outer_owner, b.outer_dist, b.outer_front),
                                (b.inner_owner, b.inner_dist, b.inner_front)):
+        # packed over the side's front cells fidx: ds, the band cells per owner (n_lo,
+        # n_hi) and the cells with an upper band (ok); one N² array of the ratios
+        fidx = np.flatnonzero(front)
+        ds = front_length_weights([n.ravel()[fidx] for n in normal], hx, hy)
         own = owner.ravel()
         sel = np.flatnonzero(own >= 0)
         lo = dist.ravel()[sel] <= a0 + tol
-        hi = own[sel][upper.ravel()[sel]]
-        n_hi = np.bincount(hi, minlength=own.size).reshape(front.shape)
-        n_lo = np.bincount(own[sel][lo], minlength=own.size).reshape(front.shape)
-        del hi, lo
-        ok = front & (n_hi > 0)
+        n_hi = _owner_counts(own[sel][upper.ravel()[sel]], fidx)
+        n_lo = _owner_counts(own[sel][lo], fidx)
+        del sel, lo
+        ok = n_hi > 0
+        okf = np.zeros(front.shape, bool)
+        okf.ravel()[fidx[ok]] = True
+        ratio = np.full(front.shape, np.nan)
         w = []
         for n in (n_lo, n_hi):
-            ratio = np.full(front.shape, np.nan)
-            ratio[ok] = n[ok] * a / ds[ok]
-            w.append(smooth_along_front(ratio, ok, sig, ds, normal)[front])
-        del n_hi, n_lo
+            ratio.ravel()[fidx[ok]] = n[ok] * a / ds[ok]
+            smooth_along_front(ratio, okf, sig, (fidx, ds), normal, out=ratio)
+            w.append(ratio.ravel()[fidx])  # the front cells' values, a new packed array
+        del n_hi, n_lo, ratio, okf
         w_lo, w_hi = w
         span = w_hi - w_lo
         with np.errstate(invalid="ignore", divide="ignore"):
             theta = np.where(span > tol, (a0 - w_lo) / np.where(span > tol, span, 1.0), 0.0)
         out.append(np.clip(np.nan_to_num(theta, nan=0.0), 0.0, 1.0))
     return tuple(out)
+
+
+def _owner_counts(owners: np.ndarray, fidx: np.ndarray) -> np.ndarray:
+    """How many of ``owners`` (flat cells) fall on each of the sorted cells ``fidx``."""
+    slot = np.minimum(np.searchsorted(fidx, owners), max(fidx.size - 1, 0))
+    keep = fidx[slot] == owners if fidx.size else np.zeros(owners.size, bool)
+    return np.bincount(slot[keep], minlength=fidx.size)
 
 
 def patch_sigmas(mask, outer_front, inner_front, sigma: float, per_radius: float):

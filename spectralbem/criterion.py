@@ -296,13 +296,19 @@ def _side_tests(test, plan, band, own, dist, io, upper, tol, dg, area, shape, ke
     return owners, acc, _weighted(parts, float(acc["area"].sum())), runs
 
 
-def _store_balance(F, W, band_area, owners, acc) -> None:
-    """F = δL/(Δγ a) − 1, W = Δγ a and the band area on the owners of one test (F only on
-    the owners whose band has a Δγ·area)."""
-    has = acc["dg"] > 0
-    F.ravel()[owners[has]] = acc["dL"][has] / acc["dg"][has] - 1.0
-    W.ravel()[owners[has]] = acc["dg"][has]
-    band_area.ravel()[owners] = acc["area"]
+def _store_balance(F, balances) -> tuple:
+    """F = δL/(Δγ a) − 1 on the owners of each test of ``balances`` ([(owners, their sums)])
+    whose band has a Δγ·area; returns W = Δγ a on them, packed (sorted flat cells, values:
+    the weights of along_front.front_average, no N² array)."""
+    cells, vals = [np.zeros(0, np.intp)], [np.zeros(0)]
+    for owners, acc in balances:
+        has = acc["dg"] > 0
+        F.ravel()[owners[has]] = acc["dL"][has] / acc["dg"][has] - 1.0
+        cells.append(owners[has])
+        vals.append(acc["dg"][has])
+    cells, vals = np.concatenate(cells), np.concatenate(vals)
+    order = np.argsort(cells, kind="stable")
+    return cells[order], vals[order]
 
 
 class _Tester:
@@ -467,16 +473,18 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
             pending["open"].append((owners[has], [(c, wt) for _, c, wt, _ in runs],
                                     acc["area"][has]))
     del plan, upper
-    # one array per quantity: the outer (closing) and inner (opening) front cells are disjoint
-    F = np.full(mask.shape, np.nan)
-    W = np.zeros(mask.shape)  # Δγ·area of each owner's band (weights along the front)
+    # one array per quantity: the outer (closing) and inner (opening) front cells are
+    # disjoint; the widths first, then the balance, so that the two never meet the N² arrays
+    # of the other (the peak of a front test's end)
     band_area = np.zeros(mask.shape)  # each front cell's band area (widths interpolated)
     for owners, acc in balances:
-        _store_balance(F, W, band_area, owners, acc)
-    del balances
+        band_area.ravel()[owners] = acc["area"]
     normal = b.normal
     width = band_widths(b, band_area, normal, sigma, a0)  # in place of band_area
     del band_area
+    F = np.full(mask.shape, np.nan)
+    W = _store_balance(F, balances)  # Δγ·area of each owner's band, packed
+    del balances
     # ratio of sums along the front: each front cell weighs by its band's Δγ·area, so that
     # owners of unequal band patches (staircase corners) do not bias the local balance
     F = front_average(b, F, W, sigma, smoothing_per_radius, normal)  # in place

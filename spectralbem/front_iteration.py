@@ -317,8 +317,8 @@ class FrontIteration:
                                      np.sqrt(release_bound(op)))
         bracket = bracketed(tests, add, remove, self.last_change)
         # a bracketed edge lies inside its flipping cell: at that cell's centre ± h/2
-        s_out = np.where(bracket, np.clip(s_out, -0.5 * hmin, 0.5 * hmin), s_out)
-        s_in = np.where(bracket, np.clip(s_in, -0.5 * hmin, 0.5 * hmin), s_in)
+        s_out[bracket] = np.clip(s_out[bracket], -0.5 * hmin, 0.5 * hmin)  # in place
+        s_in[bracket] = np.clip(s_in[bracket], -0.5 * hmin, 0.5 * hmin)
         self.s_out, self.s_in = s_out, s_in
         rmax, r = balance_residual(s_out, s_in, res_out, res_in, ~held, hmin)
         if self.mean_pressure is not None and self.mean_pressure < 0:
@@ -460,7 +460,8 @@ class FrontIteration:
     def _result(self, progress) -> AdhesiveState:
         op, cell, mask, p = self.op, self.op.cell, self.mask, self.p
         status, message, converged = self.status, self.message, self.converged
-        self.moves_to = self.band_starts = None  # freed before the final adjoint solves
+        # freed before the final adjoint solves (u is formed again for the outputs below)
+        self.moves_to = self.band_starts = self.u = None
         if self.s_out is None:  # the last tests failed: no balanced edge
             self.s_out = self.s_in = np.full(cell.shape, np.nan)
         pm = float(p.mean())

@@ -74,12 +74,11 @@ class PackedSystem:
         self.conj = transpose and op.viscoelastic
         self.pairs = 0
 
-    def _pass(self, v: np.ndarray, k: np.ndarray) -> np.ndarray:
-        """(F⁻¹[k] F P v)|_A, projected: one FFT pair."""
+    def _transform(self, v: np.ndarray, k: np.ndarray) -> None:
+        """F⁻¹[k] F P v into the plan's inverse buffer: one FFT pair."""
         self.pairs += 1
         pl = self.pl
-        be = self.op.backend
-        be.scatter(self.rin, self.idx, v)
+        self.op.backend.scatter(self.rin, self.idx, v)
         spec = pl.spectrum_buffer
         if self.conj:
             np.conjugate(pl.forward_buffer(), out=spec)
@@ -87,10 +86,18 @@ class PackedSystem:
             np.conjugate(spec, out=spec)
         else:
             np.multiply(pl.forward_buffer(), k, out=spec)
-        out = be.gather(pl.inverse_buffer().reshape(-1), self.idx)
+
+    def _gather(self) -> np.ndarray:
+        """The last transform's values on A (a new packed array), projected."""
+        out = self.op.backend.gather(self.pl.inverse_buffer().reshape(-1), self.idx)
         if self.project:
             out -= out.mean()
         return out
+
+    def _pass(self, v: np.ndarray, k: np.ndarray) -> np.ndarray:
+        """(F⁻¹[k] F P v)|_A, projected: one FFT pair."""
+        self._transform(v, k)
+        return self._gather()
 
     def precondition(self, v: np.ndarray) -> np.ndarray:
         return self._pass(v, self.kinv)
@@ -100,7 +107,10 @@ class PackedSystem:
         return self._pass(v, self.k)
 
     def apply(self, v: np.ndarray) -> np.ndarray:
-        return self._pass(self._pass(v, self.kinv), self.k)
+        t = self._pass(v, self.kinv)
+        self._transform(t, self.k)
+        del t  # the preconditioned vector is freed before the product is gathered
+        return self._gather()
 
 
 def fused_cg(system: PackedSystem, r0: np.ndarray, rtol: float, maxiter: int):
@@ -158,14 +168,14 @@ class _Basis:
         i = bisect.bisect_right(self.starts, k) - 1  # (np.searchsorted converts the list)
         return self.blocks[i], k - self.starts[i]
 
-    def set(self, k: int, v: np.ndarray) -> None:
-        """Row k := v (a block is added when k is past the last one)."""
+    def row(self, k: int) -> np.ndarray:
+        """Row k, to be written (a block is added when k is past the last one)."""
         end = self.starts[-1] + self.blocks[-1].shape[0]
         if k == end:
             self.starts.append(end)
             self.blocks.append(np.empty((min(BASIS_BLOCK, self.m + 1 - end), self.n)))
         b, i = self._block(k)
-        b[i] = v
+        return b[i]
 
     def _parts(self, k: int):
         """(block rows, offset) of the first k rows."""
@@ -219,7 +229,7 @@ def fused_gmres(system: PackedSystem, r0: np.ndarray, rtol: float, maxiter: int,
     V = _Basis(n, m)  # grown as the iteration needs it
     H = np.zeros((min(m, 2 * BASIS_BLOCK) + 1, min(m, 2 * BASIS_BLOCK)))  # grown likewise
     cs, sn = np.zeros(m), np.zeros(m)
-    r = r0.copy()
+    r = r0  # never written in place: no copy (a restart binds a new residual)
     used = 0
     rel = 1.0
     while used < maxiter:
@@ -227,7 +237,7 @@ def fused_gmres(system: PackedSystem, r0: np.ndarray, rtol: float, maxiter: int,
         rel = beta / beta0
         if rel <= rtol:
             break
-        V.set(0, r / beta)
+        np.divide(r, beta, out=V.row(0))
         e = np.zeros(m + 1)
         e[0] = beta
         k = 0
@@ -259,7 +269,9 @@ def fused_gmres(system: PackedSystem, r0: np.ndarray, rtol: float, maxiter: int,
             rel = abs(e[k]) / beta0
             if hn == 0.0 or rel <= rtol:
                 break
-            V.set(k, w / hn)
+            np.divide(w, hn, out=V.row(k))  # w / hn, without a temporary
+            w = None  # not held while the next product is formed
+        w = None  # nor the last one through the update
         y = np.linalg.solve(np.triu(H[:k, :k]), e[:k]) if k else np.zeros(0)
         x += system.precondition(V.combine(k, y))
         if rel <= rtol or used >= maxiter:

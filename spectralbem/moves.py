@@ -140,9 +140,10 @@ def held_offsets(s_out, s_in, outer, held_in):
     compressive edge, not a crack tip; the energy balance's inward offset there is an
     extrapolation of meaningless works (negative gap times compressive pressure), so the
     edge stays at the mask edge, as in an adhesiveless contact: s ≥ 0 on those inner cells
-    and on the outer cells next to them (an outward balance still counts)."""
-    s_in = np.where(held_in, np.maximum(s_in, 0.0), s_in)
-    s_out = np.where(outer & touching(held_in), np.maximum(s_out, 0.0), s_out)
+    and on the outer cells next to them (an outward balance still counts).  In place of
+    ``s_out`` and ``s_in`` (returned): no copies of the two N² arrays."""
+    np.maximum(s_in, 0.0, out=s_in, where=held_in)
+    np.maximum(s_out, 0.0, out=s_out, where=outer & touching(held_in))
     return s_out, s_in
 
 

@@ -354,3 +354,28 @@ def test_the_adjoint_split_restarts_short_and_falls_back_when_that_stalls(monkey
     scale = np.linalg.norm(ref[~mask])
     for psi in (short, fallback):
         assert np.linalg.norm((psi - ref)[~mask]) <= 1e-9 * scale
+
+
+def test_normal_differences_are_the_rolled_differences_without_their_temporaries():
+    """bands._centred_difference (the front normal's gradient, formed into one array) gives
+    the values of the periodic difference by np.roll bit for bit, on both axes and on short
+    axes; the in-place held_offsets gives the values of its former np.where form."""
+    from spectralbem.bands import _centred_difference
+    from spectralbem.front import touching
+    from spectralbem.moves import held_offsets
+
+    rng = np.random.default_rng(5)
+    for shape in ((16, 16), (7, 12), (2, 5), (3, 1)):
+        f = rng.random(shape)
+        for axis, h in ((0, 3.9e-6), (1, 7.8125e-6)):
+            ref = (np.roll(f, -1, axis) - np.roll(f, 1, axis)) / (2 * h)
+            assert np.array_equal(_centred_difference(f, axis, h), ref)
+    s_out, s_in = rng.normal(size=(2, 12, 9))
+    s_in[rng.random(s_in.shape) < 0.2] = np.nan
+    s_in[rng.random(s_in.shape) < 0.1] = -np.inf
+    outer, held = rng.random((2, 12, 9)) < 0.4
+    ref_in = np.where(held, np.maximum(s_in, 0.0), s_in)
+    ref_out = np.where(outer & touching(held), np.maximum(s_out, 0.0), s_out)
+    got_out, got_in = held_offsets(s_out, s_in, outer, held)
+    assert got_out is s_out and got_in is s_in
+    assert np.array_equal(got_out, ref_out) and np.array_equal(got_in, ref_in, equal_nan=True)

@@ -12,9 +12,8 @@ from scipy import ndimage
 from . import kernels
 from .front import front_length_weights
 
-__all__ = ["band_widths", "layer_weights", "upper_band", "patch_sigmas", "walk_step",
-           "smooth_along_front", "front_average", "WIDTH_SMOOTHING", "WIDTH_RANGE",
-           "FRONT_GRAPH"]
+__all__ = ["band_widths", "layer_weights", "upper_band", "patch_sigmas", "smooth_along_front",
+           "front_average", "WIDTH_SMOOTHING", "WIDTH_RANGE", "FRONT_GRAPH"]
 
 #: average along the front graph (True) or with a grid Gaussian restricted to front cells
 FRONT_GRAPH = True
@@ -216,23 +215,6 @@ def smooth_along_front(F: np.ndarray, front: np.ndarray, sigma,
     return out
 
 
-def walk_step(rows: np.ndarray, cols: np.ndarray, n: int):
-    """The lazy walk ½(I + D⁻¹ Adj) on n nodes joined by the undirected pairs (rows, cols)
-    (each pair once), as a CSR matrix with sorted columns (the row order of
-    :func:`spectralbem.kernels.front_walk`).  Row-stochastic: each step is a mean, so
-    staircase corners of higher degree gain no weight (an unnormalised walk biased a JKR
-    disc's balance by 5 % near pull-off); an isolated node keeps its value."""
-    from scipy import sparse
-
-    adj = sparse.coo_matrix((np.ones(rows.size), (rows, cols)), shape=(n, n)).tocsr()
-    adj = (adj + adj.T).tocsr()
-    deg = np.asarray(adj.sum(axis=1)).ravel()
-    step = (sparse.diags(0.5 / np.maximum(deg, 1.0)) @ adj
-            + sparse.diags(np.where(deg > 0, 0.5, 1.0))).tocsr()
-    step.sort_indices()
-    return step
-
-
 def _at(values, idx) -> np.ndarray:
     """``values`` at the flat cells ``idx``: an N² array, or packed as (sorted flat cells,
     values), 0 at cells it does not list."""
@@ -252,8 +234,8 @@ def _smooth_on_front_graph(F, front, sigma, weights, normal, out=None) -> np.nda
     number, or the groups of :func:`patch_sigmas` ({"cells": sorted flat indices, "sigma":
     their σ}), each group of one σ walking on its own; cells of σ ≤ 0 keep F.  The result
     goes to ``out``'s front cells (a new array of nan elsewhere when None; ``out`` may be F:
-    F is read before it is written).  The walk is compiled
-    (:func:`spectralbem.kernels.front_walk`)."""
+    F is read before it is written).  The walk's matrix and the walk are compiled
+    (:func:`spectralbem.kernels.front_graph`, :func:`spectralbem.kernels.front_walk`)."""
     shape = F.shape
     fidx = np.flatnonzero(front)
     idx = fidx[np.isfinite(F.ravel()[fidx])]
@@ -265,25 +247,13 @@ def _smooth_on_front_graph(F, front, sigma, weights, normal, out=None) -> np.nda
     else:
         sig = np.full(idx.size, float(sigma))
     n = idx.size
-    pos = np.full(F.size, -1, np.int32 if F.size < 2**31 else np.int64)
-    pos[idx] = np.arange(n)
-    i, j = np.divmod(idx, shape[1])
-    nx_, ny_ = normal[0].ravel()[idx], normal[1].ravel()[idx]
-    rows, cols = [], []
-    for di, dj in ((1, 0), (0, 1), (1, 1), (1, -1)):  # each undirected pair once
-        k = pos[((i + di) % shape[0]) * shape[1] + (j + dj) % shape[1]]
-        sel = k >= 0
-        ks = k[sel]
-        sel[sel] = (nx_[sel] * nx_[ks] + ny_[sel] * ny_[ks] > 0) & (sig[sel] == sig[ks])
-        rows.append(np.flatnonzero(sel))
-        cols.append(k[sel])
-    del pos
-    step = walk_step(np.concatenate(rows), np.concatenate(cols), n)
+    indptr, indices, data = kernels.front_graph(idx, shape, normal[0].ravel()[idx],
+                                                normal[1].ravel()[idx], sig)
     w = np.ones(n) if weights is None else _at(weights, idx)
     Fi = F.ravel()[idx]
     num, den = w * Fi, w.copy()
     steps = np.rint(2 * np.maximum(sig, 0.0) ** 2).astype(np.int64)
-    kernels.front_walk(step.indptr, step.indices, step.data, steps, num, den)
+    kernels.front_walk(indptr, indices, data, steps, num, den)
     good = den > 0
     val = np.where(good, num / np.where(good, den, 1.0), np.nan)
     keep = sig <= 0

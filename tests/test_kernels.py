@@ -279,13 +279,11 @@ def test_front_walk(n, seed, groups):
     matrix (rows of different counts never joined); the compiled loop against its numpy
     twin and against scipy's product applied step by step to each group alone — the same
     rows in the same order, so equal to the last bit."""
-    from spectralbem.along_front import walk_step
-
     rng = np.random.default_rng(seed)
     group = rng.integers(0, groups, n)
     steps_of = rng.integers(0, 12, groups)
     r, c = np.nonzero(np.triu(rng.random((n, n)) < 0.2, 1) & (group[:, None] == group))
-    step = walk_step(r, c, n)
+    step = kernels.walk_csr(r, c, n)
     x, y = rng.normal(size=n), rng.random(n)
     expect_x, expect_y = x.copy(), y.copy()
     for g in range(groups):
@@ -299,6 +297,29 @@ def test_front_walk(n, seed, groups):
         xx, yy = x.copy(), y.copy()
         walk(step.indptr, step.indices, step.data, steps_of[group], xx, yy)
         assert np.array_equal(xx, expect_x) and np.array_equal(yy, expect_y)
+
+
+@settings(max_examples=40, deadline=None)
+@given(nx=st.integers(1, 40), ny=st.integers(1, 40), fill=st.floats(0.0, 1.0),
+       seed=st.integers(0, 2**31), sigmas=st.integers(1, 3))
+def test_front_graph(nx, ny, fill, seed, sigmas):
+    """kernels.front_graph (the walk matrix of the average along a front): the compiled build
+    equals its numpy twin, scipy's sum of the pair matrix and its transpose scaled to a lazy
+    walk, to the last bit — same sorted columns, same data — on any set of cells of a
+    periodic grid, grids one or two cells across included (where a neighbour is met twice
+    or is the cell itself, and scipy sums the duplicates); every row sums to 1."""
+    rng = np.random.default_rng(seed)
+    idx = np.flatnonzero(rng.random(nx * ny) < fill)
+    ang = rng.random(idx.size) * 2 * np.pi
+    nxv, nyv = np.cos(ang), np.sin(ang)
+    sig = rng.integers(0, sigmas, idx.size).astype(float)
+    expect = kernels.front_graph_numpy(idx, (nx, ny), nxv, nyv, sig)
+    got = kernels.front_graph(idx, (nx, ny), nxv, nyv, sig)
+    for e, g in zip(expect, got, strict=True):
+        assert np.array_equal(e, g)
+    indptr, _, data = got
+    sums = np.add.reduceat(data, indptr[:-1]) if idx.size else np.zeros(0)
+    np.testing.assert_allclose(sums, 1.0, rtol=1e-15)
 
 
 @settings(max_examples=30, deadline=None)

@@ -24,6 +24,7 @@ import functools
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.linalg.blas import dgemv
 from scipy.sparse.linalg import LinearOperator, bicgstab, cg, gmres
 
 from .spectral import SpectralOperator
@@ -189,16 +190,26 @@ class _Basis:
         return np.concatenate([b @ w for b, _s in self._parts(k)])
 
     def subtract(self, k: int, w: np.ndarray, h: np.ndarray) -> None:
-        """w −= V[:k]ᵀ h, in place."""
+        """w −= V[:k]ᵀ h, in place (w: a contiguous float64 vector)."""
         for b, s in self._parts(k):
-            w -= b.T @ h[s: s + b.shape[0]]
+            _gemv_update(b, h[s: s + b.shape[0]], w, -1.0)
 
     def combine(self, k: int, y: np.ndarray) -> np.ndarray:
         """V[:k]ᵀ y."""
         out = np.zeros(self.n)
         for b, s in self._parts(k):
-            out += b.T @ y[s: s + b.shape[0]]
+            _gemv_update(b, y[s: s + b.shape[0]], out, 1.0)
         return out
+
+
+def _gemv_update(b: np.ndarray, x: np.ndarray, y: np.ndarray, alpha: float) -> None:
+    """y += alpha·bᵀ x in place, one BLAS call (b: C-contiguous rows, so bᵀ is Fortran-ordered
+    and not copied): half the time of ``y -= b.T @ x``, which forms bᵀ x in a temporary and
+    subtracts it in a second pass (measured at 52 000 × 12: 0.33 ms against 0.69 ms); equal to
+    it up to the order of the sums (rounding)."""
+    r = dgemv(alpha, b.T, x, beta=1.0, y=y, overwrite_y=1)
+    if r is not y:  # (f2py copies y only if it is not a contiguous float64 vector)
+        y[...] = r
 
 
 def _grown(H: np.ndarray, m: int) -> np.ndarray:

@@ -143,6 +143,16 @@ def _check_a0_cells(spec: dict, a0_cells, base) -> None:
                          "--a0-cells)")
 
 
+def _check_grid_model(scene) -> None:
+    """Only the grid model has a resolution: a scene the 1D method solves (``scene.model =
+    "sinusoid1d"``, or ``"auto"`` choosing it) would be solved the same way at every size."""
+    if scene.model != "grid2d":
+        raise SceneError(f"scene.model: {scene.model!r} (the 1D method: no grid, the same "
+                         "answer at every --sizes; `model = \"auto\"` chooses it for a "
+                         "sinusoid sliding along its wave vector) cannot be refined; allowed: "
+                         "'grid2d' (--set scene.model=grid2d)")
+
+
 def _check_sizes(sizes) -> list:
     try:
         sizes = sorted(int(n) for n in sizes)
@@ -187,6 +197,7 @@ def refine(source, sizes, out, *, overrides: dict | None = None, a0_cells=None,
     sizes = _check_sizes(sizes)
     # every grid validated before any heavy work; the scenes are the ones solved below
     scenes = [load_scene(raw, overrides=ov, base_dir=base) for ov in per_size]
+    _check_grid_model(scenes[0])
     out = Path(out)
     parts = out.with_name(out.name + ".parts")
     parts.mkdir(exist_ok=True)

@@ -148,6 +148,24 @@ def test_refine_rejects_what_it_cannot_refine(change, sizes, words, tmp_path):
     assert not (tmp_path / "r.nc.parts").exists()
 
 
+@pytest.mark.parametrize("model", ["sinusoid1d", "auto"])
+def test_refine_rejects_a_scene_of_the_1d_method(model, tmp_path, monkeypatch):
+    """A scene the 1D method solves (its own model, or "auto" choosing it for a sinusoid
+    sliding along its wave vector) has no grid: it was solved identically at every size and
+    an empty table reported with exit 0.  Refused, naming scene.model, before any solve."""
+    import spectralbem.scenes as scenes
+
+    def no_solve(*a, **k):
+        raise AssertionError("solved")
+
+    monkeypatch.setattr(scenes, "solve", no_solve)
+    seed = {"scene": {"model": model}, "sinusoid": {"zeta": 0.1, "beta": 10, "Gamma": 0.0,
+                                                    "a0_tilde": 0.0, "p_tilde": 0.1}}
+    with pytest.raises(SceneError, match=r"scene.model: 'sinusoid1d'.*allowed: 'grid2d'"):
+        refine(seed, [64, 128, 256], tmp_path / "r.nc")
+    assert not (tmp_path / "r.nc.parts").exists()
+
+
 def test_seed_scene_refines_cells_per_wavelength_and_strips_keep_ny():
     seed = {"scene": {"model": "grid2d"}, "sinusoid": {"zeta": 0.1, "beta": 10,
                                                        "p_tilde": 0.1}}

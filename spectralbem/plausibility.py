@@ -161,8 +161,17 @@ def _a0_against_cutoff(scene) -> list[str]:
         return []
     return [f"adhesion.a0: {scene.a0:.4g} m is {scene.a0 / cut:.3g} of the surface's cut-off "
             f"wavelength {cut:.4g} m (warned above {A0_OVER_CUTOFF:g}: contact patches of "
-            "that size are barely wider than the advance band; in an elastic scene a0 is "
-            "numerical and one cell is the most accurate, docs/theory.md)"]
+            f"that size are barely wider than the advance band; {_a0_advice(scene)}, "
+            "docs/theory.md)"]
+
+
+def _a0_advice(scene) -> str:
+    """What to do about an a0 large against the contact's lengths: in an elastic scene (or a
+    viscoelastic one at rest) a0 is numerical, in a viscoelastic one in motion physical."""
+    if scene.viscoelastic:
+        return ("a0 is a physical process-zone length in this sliding viscoelastic scene: "
+                "the answer is the one of this a0, with the small patches' edges blunted by it")
+    return "in an elastic scene a0 is numerical and one cell is the most accurate"
 
 
 def state_warnings(scene, ds) -> list[str]:
@@ -179,8 +188,7 @@ def state_warnings(scene, ds) -> list[str]:
     return [f"adhesion.a0: {scene.a0:.4g} m is {scene.a0 / d[k]:.3g} of the small contact "
             f"patches' diameter {d[k]:.4g} m{where}: a tenth of the contact area lies in "
             f"patches that narrow (warned above {A0_OVER_PATCH:g}: their edges are not "
-            "sharp against the band; a smaller a0 in an elastic scene, a finer grid with it, "
-            "docs/theory.md)"]
+            f"sharp against the band; {_a0_advice(scene)}, docs/theory.md)"]
 
 
 def warn(scene, ds=None) -> None:

@@ -7,12 +7,16 @@ with the front coloured by the local G/Δγ, pressure and gap fields, a profile 
 sliding direction; for physical scenes the pressure distribution, the surface's power
 spectrum and the distribution of G/Δγ along the front), a 1D state (stress and
 displacement on the contact) or a grid refinement (each output's difference from the finest
-grid against N, :mod:`spectralbem.refinement`).
+grid against N, :mod:`spectralbem.refinement`). The grid state's figure is drawn by
+:mod:`spectralbem.plot_maps`. A state whose status is not a verified one (``VERIFIED``, as
+``spectralbem.solving.REPORTED``) is marked in red: a banner and frame on its figure, its
+points crossed out on curves.
 """
 
 from __future__ import annotations
 
 import os
+import re
 
 import matplotlib
 
@@ -20,8 +24,6 @@ if not os.environ.get("MPLBACKEND"):
     matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-
-from .bands import front_cells  # noqa: E402
 
 SEED_CURVES = ("a_tilde", "e_tilde", "G1_over_dgamma", "G2_over_dgamma", "mu_bar")
 PHYS_CURVES = ("area_fraction", "mu", "G1", "G2", "mu_adhesive", "penetration")
@@ -67,6 +69,59 @@ def _zero_friction(da) -> bool:
     return da.name.startswith("mu") and (v.size == 0 or np.abs(v).max() < ROUND_OFF)
 
 
+def _num(v) -> str:
+    """A value to 6 significant digits, an exponent without "+" or leading zeros (1e-5)."""
+    text = f"{float(v):.6g}"
+    if "e" in text:
+        mant, exp = text.split("e")
+        text = f"{mant}e{int(exp)}"
+    return text
+
+
+def _with_unit(text: str, unit) -> str:
+    """``text`` followed by its unit (none for dimensionless quantities)."""
+    return f"{text} {unit}" if unit not in ("1", "", None) else text
+
+
+def _bare(label: str) -> str:
+    """A label without its trailing unit in parentheses ("Δ (m)" → "Δ")."""
+    return re.sub(r" \([^()]*\)$", "", label)
+
+
+def _control_symbol(ds) -> tuple[str, str]:
+    """The prescribed control's symbol and unit ("p̄", "Pa")."""
+    cv = ds["control_value"]
+    name = cv.attrs.get("long_name", "control").replace("prescribed ", "")
+    return _bare(LABELS.get(name, name)), cv.attrs.get("units", "1")
+
+
+def _verified(status) -> bool:
+    return str(status) in VERIFIED
+
+
+def _banner(status) -> str:
+    """The warning line of a state whose values the solver did not verify."""
+    head = ("NOT CONVERGED" if str(status) == "not_converged"
+            else f"STATUS {str(status).upper().replace('_', ' ')}")
+    return f"{head} — values unverified"
+
+
+def _suptitle(fig, text: str, status, **kw) -> None:
+    """The figure's title; for a state not verified, a red banner above it and a red frame
+    round the figure so its values cannot pass for a result."""
+    if _verified(status):
+        fig.suptitle(text, **kw)
+        return
+    kw["fontsize"] = kw.get("fontsize", 10) + 2
+    fig.suptitle("\n".join(filter(None, (_banner(status), text))), color="C3",
+                 fontweight="bold", **kw)
+    fig.patch.set_edgecolor("C3")
+    fig.patch.set_linewidth(8)  # half of it inside the figure: a wider margin for it
+    engine = fig.get_layout_engine()
+    if engine is not None and hasattr(engine, "set"):
+        engine.set(w_pad=0.12, h_pad=0.12)
+
+
 def _curve_names(ds) -> list[str]:
     return [n for n in (SEED_CURVES if "a_tilde" in ds else PHYS_CURVES)
             if n in ds and not _zero_friction(ds[n])]
@@ -94,7 +149,8 @@ def _curves(ds, xname, xlabel, title, x=None, fig=None):
         if other:
             da = da.transpose(xname, *other)
         y = np.asarray(da.values, float).reshape(len(x), -1)
-        labels = ([f"{other[0]} = {v:g}" for v in np.asarray(ds[other[0]].values, float)]
+        labels = ([_with_unit(f"{other[0]} = {_num(v)}", ds[other[0]].attrs.get("units"))
+                   for v in np.asarray(ds[other[0]].values, float)]
                   if len(other) == 1 and other[0] in ds.coords else [None] * y.shape[1])
         for j in range(y.shape[1]):
             ax.plot(x, y[:, j], "o-", ms=3, label=labels[j])
@@ -114,7 +170,11 @@ def _curves(ds, xname, xlabel, title, x=None, fig=None):
         ax.grid(alpha=0.3)
     for ax in list(axes.flat)[n:]:
         ax.set_visible(False)
-    fig.suptitle(title)
+    if bad is not None and bad.any():
+        fig.suptitle(f"{title}\n{int(bad.sum())} of {bad.size} states NOT VERIFIED "
+                     "(red ×: values unverified)", color="C3")
+    else:
+        fig.suptitle(title)
     return fig
 
 
@@ -142,7 +202,7 @@ def plot_refinement(ds):
     relative difference from the finest grid (%), one curve per load step, Richardson's
     N → ∞ estimate dashed where the changes are asymptotic; hollow markers: states not
     verified (left out of the estimates)."""
-    from .refinement import VERIFIED, varying
+    from .refinement import VERIFIED, _control, varying
 
     names = varying(ds)
     cols = max(1, min(3, len(names)))
@@ -151,6 +211,13 @@ def plot_refinement(ds):
                              constrained_layout=True)
     n = np.asarray(ds["N"].values, float)
     steps = range(ds.sizes["step"]) if "step" in ds.dims else [None]
+    symbol, unit = _control_symbol(ds) if "control_value" in ds else ("step", "1")
+
+    def load(k):  # the legend's name of step k: its control value with its unit
+        if "control_value" not in ds:
+            return f"step {k}"
+        return _with_unit(f"{symbol} = {_num(ds['control_value'].values[k])}", unit)
+
     for ax, q in zip(axes.ravel(), names, strict=False):
         for k in steps:
             sel = ds if k is None else ds.isel(step=k)
@@ -158,7 +225,7 @@ def plot_refinement(ds):
             v = np.asarray(sel[q].values, float)
             ref = abs(v[-1]) if np.isfinite(v[-1]) and v[-1] != 0 else np.nan
             rel = 100 * (v - v[-1]) / ref
-            line, = ax.plot(n, rel, "-", label=None if k is None else f"step {k}")
+            line, = ax.plot(n, rel, "-", label=None if k is None else load(k))
             ax.plot(n[ok], rel[ok], "o", color=line.get_color())
             ax.plot(n[~ok], rel[~ok], "o", mfc="none", color=line.get_color())
             lim = float(sel[f"{q}_limit"].values)
@@ -168,13 +235,19 @@ def plot_refinement(ds):
         ax.set_xscale("log", base=2)
         ax.set_xticks(n, [str(int(x)) for x in n])
         ax.set_xlabel("N")
-        ax.set_ylabel(f"{LABELS.get(q, q)}: % from N = {int(n[-1])}")
+        ax.set_ylabel(f"{_bare(LABELS.get(q, q))}: % difference from N = {int(n[-1])}")
     for ax in axes.ravel()[len(names):]:
         ax.set_visible(False)
     if len(steps) > 1 and names:
         axes[0, 0].legend(fontsize=7)
-    fig.suptitle(f"{ds.attrs.get('title', 'spectralbem')}: grid refinement (dashed: "
-                 "Richardson's N → ∞ estimate)", fontsize=10)
+    name = ds.attrs.get("title", "spectralbem").replace("spectralbem result: ", "")
+    ctrl = _control(ds)
+    if steps == [None] and ctrl in ds:  # one load, named here as it has no legend
+        name += " at " + _with_unit(f"{_bare(LABELS.get(ctrl, ctrl))} = "
+                                    f"{_num(ds[ctrl].values.flat[-1])}",
+                                    ds[ctrl].attrs.get("units"))
+    fig.suptitle(f"{name}: grid refinement (dashed: Richardson's N → ∞ estimate; hollow: "
+                 "states not verified)", fontsize=10)
     return fig
 
 
@@ -208,12 +281,16 @@ def plot_path(ds):
 
 
 def _step_maps(fig, ds, label):
-    """A row of contact maps, one per chosen step (title: step, control value, area)."""
+    """A row of contact maps, one per chosen step (title: step, control value, area,
+    status; red when not verified), with axis ticks as on the single state's map."""
+    from matplotlib.ticker import MaxNLocator
+
     n = ds.sizes["step"]
     steps = np.unique(np.linspace(0, n - 1, min(n, PATH_MAPS)).round().astype(int))
     axes = fig.subplots(1, len(steps), squeeze=False)[0]
     seed = "pressure_tilde" in ds
-    scale = 1.0 if seed else 1e3
+    scale, unit = (1.0, "k⁻¹") if seed else (1e3, "mm")
+    symbol, cunit = _control_symbol(ds)
     x, y = ds["x"].values * scale, ds["y"].values * scale
     ext = (x[0], x[-1], y[0], y[-1])
     X, Y = np.meshgrid(x, y, indexing="ij")
@@ -229,234 +306,38 @@ def _step_maps(fig, ds, label):
                 sc = ax.scatter(X[ok], Y[ok], c=np.clip(G[ok], 0.0, 2.0), s=1.5,
                                 marker="s", cmap="coolwarm", vmin=0.0, vmax=2.0)
         frac = (f", area {float(st['area_fraction']):.3f}" if "area_fraction" in st else "")
-        status = f"\n{st['status'].item()}" if "status" in st else ""
-        ax.set_title(f"step {int(k)}: {float(st['control_value']):.4g}{frac}{status}",
-                     fontsize=8)
-        ax.set_xticks([])
-        ax.set_yticks([])
+        status = st["status"].item() if "status" in st else "partial"
+        load = _with_unit(f"{symbol} = {_num(st['control_value'])}", cunit)
+        ax.set_title(f"step {int(k)}: {load}{frac}\n"
+                     + (status if _verified(status) else _banner(status)), fontsize=8,
+                     color="k" if _verified(status) else "C3")
+        for axis in (ax.xaxis, ax.yaxis):  # a scale as on the single state's map
+            axis.set_major_locator(MaxNLocator(3))
+        ax.tick_params(labelsize=7)
+        ax.set_xlabel(f"x ({unit})", fontsize=7)
+        if ax is axes[0]:
+            ax.set_ylabel(f"y ({unit})", fontsize=7)
+        else:
+            ax.tick_params(labelleft=False)
     if sc is not None:
         fig.colorbar(sc, ax=list(axes), label="G/Δγ on the front", shrink=0.8)
     fig.suptitle(f"contact of each step (x to the right; control: {label})", fontsize=9)
 
 
-def _cut_along(field_, i0, j0, vx, vy):
-    """Nearest-cell samples of a periodic field along the line through (i0, j0) in the
-    direction (vx, vy) measured in cells (one period of the longer axis)."""
-    nx, ny = field_.shape
-    n = max(nx, ny)
-    s = np.arange(n) - n // 2
-    norm = max(abs(vx), abs(vy))
-    ii = (i0 + np.rint(s * vx / norm).astype(int)) % nx
-    jj = (j0 + np.rint(s * vy / norm).astype(int)) % ny
-    return s, ii, jj
-
-
-def _title_block(ds, seed: bool) -> str:
-    """Scene, material, sliding velocity, load, μ and contact area in one line each."""
-    import json
-
-    try:
-        spec = json.loads(ds.attrs.get("scene", "{}"))
-    except ValueError:
-        spec = {}
-    name = ds.attrs.get("title", "").replace("spectralbem result: ", "") or "state"
-    mu = float(ds["mu_bar"] if seed else ds["mu"])
-    mu_text = f"{mu:.4g}" if abs(mu) >= ROUND_OFF else "0"
-    area = float(ds["area_fraction"]) if "area_fraction" in ds else float(
-        ds["contact"].values.mean())
-    if seed:
-        a = ds.attrs
-        return (f"{name}: ζ = {a.get('zeta', float('nan')):g}, β = "
-                f"{a.get('beta', float('nan')):g}, Γ = {a.get('Gamma', float('nan')):g}, "
-                f"p̃ = {float(ds['p_tilde']):.4g}, μ/Λ̃ = {mu_text}, "
-                f"ã = {float(ds['a_tilde']):.4g}, status {ds['status'].item()}")
-    mat = spec.get("material", {})
-    mtext = ", ".join(f"{k} {v:g}" for k, v in mat.items()
-                      if k != "kind" and isinstance(v, (int, float)))
-    v = float(np.hypot(ds.attrs.get("velocity_x", 0.0), ds.attrs.get("velocity_y", 0.0)))
-    return (f"{name} — {mat.get('kind', '')} ({mtext}); v = {v:.3g} m/s; "
-            f"p̄ = {float(ds['mean_pressure']):.4g} Pa; μ = {mu_text}; "
-            f"contact area {area:.4f}; {ds['status'].item()}")
-
-
-def _cut(ds, p, x, y):
-    """The profile cut through the highest pressure along the sliding direction (x if at
-    rest): (distance along it, row and column indices, unit vector in the (x, y) plane)."""
-    vx, vy = ds.attrs.get("velocity_x", 0.0), ds.attrs.get("velocity_y", 0.0)
-    if vx == 0 and vy == 0:
-        vx = 1.0
-    hx, hy = x[1] - x[0], (y[1] - y[0]) if len(y) > 1 else 1.0
-    i0, j0 = np.unravel_index(np.argmax(p), p.shape)
-    s, ii, jj = _cut_along(p, i0, j0, vx / hx, vy / hy)
-    norm = max(abs(vx / hx), abs(vy / hy))
-    return s * np.hypot(vx / norm, vy / norm), ii, jj, np.array([vx, vy]) / np.hypot(vx, vy)
-
-
-def _draw_cut(ax, x, y, ii, jj):
-    """The cut's cells as a dashed line on a map (broken where it wraps around the cell)."""
-    xs, ys = x[ii], y[jj]
-    jump = np.flatnonzero((np.abs(np.diff(xs)) > 0.5 * np.ptp(x))
-                          | (np.abs(np.diff(ys)) > 0.5 * max(np.ptp(y), 1e-300))) + 1
-    for seg in np.split(np.arange(xs.size), jump):
-        ax.plot(xs[seg], ys[seg], "--", color="C2", lw=0.9)
-
-
 def plot_contact(ds, path=None):
-    """Grid state: a title block (scene, material, v, p̄, μ, area, status); the contact map
-    with the front coloured by G/Δγ when adhesive and the sliding direction; the pressure
-    (diverging around p = 0, non-contact masked); the gap (log scale); a profile cut through
-    the highest pressure along the sliding direction, drawn on the maps and zoomed to the
-    contact."""
-    from matplotlib import colors
+    """Grid state: a title block (scene, material, v and its angle to x, p̄, μ, area,
+    status; a red banner and frame when the state is not verified); the contact map with
+    the front coloured by G/Δγ when adhesive and an arrow along the sliding direction; the
+    pressure (diverging around p = 0 with ticks on both sides, non-contact masked, the scale
+    clipped to the 1st-99th percentile with extend arrows and the clipped extremes named);
+    the gap (log scale); a profile cut through the highest pressure along the sliding
+    direction (x at rest and for the seed's sinusoid; its axis names the direction), drawn
+    on the maps and zoomed to the contact; for physical scenes, a second row (pressure
+    distribution, power spectrum, G/Δγ along the front). Drawn by
+    :mod:`spectralbem.plot_maps`."""
+    from .plot_maps import plot_contact as draw
 
-    seed = "pressure_tilde" in ds
-    scale, unit = (1.0, "k⁻¹") if seed else (1e3, "mm")
-    x = ds["x"].values * scale
-    y = ds["y"].values * scale
-    p = ds["pressure_tilde"].values if seed else ds["pressure"].values
-    pl, pu = ("p/p*", 1.0) if seed else ("pressure (kPa)", 1e-3)
-    contact = ds["contact"].values.astype(bool)
-    ext = (x[0], x[-1], y[0], y[-1])
-    panels = 3 if seed or "gap" not in ds else 4
-    extra = not seed and "heights" in ds
-    fig = plt.figure(figsize=(4.4 * panels, 8.3 if extra else 4.3), constrained_layout=True)
-    gs = fig.add_gridspec(2 if extra else 1, panels)
-    axes = [fig.add_subplot(gs[0, i]) for i in range(panels)]
-    fig.suptitle(_title_block(ds, seed), fontsize=9)
-    dist, ii, jj, vhat = _cut(ds, p, x, y)
-    ax = axes[0]
-    ax.imshow(contact.T, origin="lower", extent=ext, cmap="Greys", aspect="auto",
-              vmin=0, vmax=1.6)
-    if "G_front" in ds:
-        G = ds["G_front"].values
-        ok = np.isfinite(G)
-        X, Y = np.meshgrid(x, y, indexing="ij")
-        lo, hi = np.percentile(G[ok], [5, 95]) if ok.any() else (0.0, 2.0)
-        lo, hi = min(lo, 1.0), max(hi, 1.0)  # keep G = Δγ (balance) inside the scale
-        sc = ax.scatter(X[ok], Y[ok], c=np.clip(G[ok], lo, hi), s=4, cmap="coolwarm",
-                        marker="s", vmin=lo, vmax=hi)
-        fig.colorbar(sc, ax=ax, label="local G/Δγ on the front")
-        held = front_cells(contact)[0] & ~ok  # edges held by contact (or unresolved)
-        ax.scatter(X[held], Y[held], c="k", s=2, marker="s",
-                   label="front without a crack tip")
-        if held.any():
-            ax.legend(loc="upper right", fontsize=7, markerscale=3)
-    if not seed and (ds.attrs.get("velocity_x", 0.0) or ds.attrs.get("velocity_y", 0.0)):
-        L = 0.18 * min(np.ptp(x), max(np.ptp(y), 1e-300))
-        x0, y0 = x[0] + 0.12 * np.ptp(x), y[0] + 0.12 * np.ptp(y)
-        ax.annotate("v", (x0 + L * vhat[0], y0 + L * vhat[1]), (x0, y0), color="C1",
-                    arrowprops=dict(arrowstyle="->", color="C1", lw=2), fontsize=10)
-    frac = float(ds["area_fraction"]) if "area_fraction" in ds else float(contact.mean())
-    tips = ""
-    if "crack_tip_length" in ds and float(ds["front_length"]) > 0:
-        share = float(ds["crack_tip_length"]) / float(ds["front_length"])
-        tips = f"; crack tips {100 * share:.0f} % of front"
-    ax.set_title(f"contact (area {frac:.3f}{tips})" if tips
-                 else f"contact (area fraction {frac:.3f})")
-    ax = axes[1]
-    pp = np.ma.masked_where(~contact, p * pu)
-    # robust colour scale: isolated tensile spikes at front corners would hide the field
-    pv = p[contact] * pu if contact.any() else np.zeros(1)
-    vlo, vhi = np.percentile(pv, [1, 99])
-    if vlo < 0 < vhi:  # adhesive: tension blue, compression red, p = 0 white
-        norm = colors.TwoSlopeNorm(vmin=vlo, vcenter=0.0, vmax=vhi)
-        im = ax.imshow(pp.T, origin="lower", extent=ext, cmap="RdBu_r", norm=norm,
-                       aspect="auto")
-    else:
-        im = ax.imshow(pp.T, origin="lower", extent=ext, cmap="magma", aspect="auto",
-                       vmin=min(vlo, 0.0), vmax=vhi)
-    ax.set_facecolor("0.85")
-    fig.colorbar(im, ax=ax, label=pl)
-    ax.set_title("pressure (grey: no contact)")
-    if panels == 4:
-        ax = axes[2]
-        gap = np.ma.masked_where(ds["gap"].values <= 0, ds["gap"].values * 1e6)
-        norm = colors.LogNorm(vmin=max(float(gap.min()), 1e-6 * float(gap.max())),
-                              vmax=float(gap.max())) if gap.count() else None
-        im = ax.imshow(gap.T, origin="lower", extent=ext, cmap="viridis", norm=norm,
-                       aspect="auto")
-        ax.set_facecolor("0.85")
-        fig.colorbar(im, ax=ax, label="gap (μm)")
-        ax.set_title("gap (log scale; grey: contact)")
-    for ax in axes[:-1]:
-        _draw_cut(ax, x, y, ii, jj)
-        ax.set_xlabel(f"x ({unit})")
-        ax.set_ylabel(f"y ({unit})")
-    ax = axes[-1]
-    on = contact[ii, jj]
-    if on.any() and not on.all():  # zoom to the contact along the cut, with a margin
-        k = np.flatnonzero(on)
-        span = dist[k.max()] - dist[k.min()]
-        lim = (dist[k.min()] - 0.6 * span - 2 * abs(dist[1] - dist[0]),
-               dist[k.max()] + 0.6 * span + 2 * abs(dist[1] - dist[0]))
-    else:
-        lim = (dist[0], dist[-1])
-    sel = (dist >= lim[0]) & (dist <= lim[1])
-    if seed:
-        ax.plot(dist[sel], p[ii, jj][sel], "C3-")
-        ax.set_ylabel("p/p*")
-    else:
-        h = ds["heights"].values
-        w = h - h.max() + float(ds["penetration"])
-        top, slab = -w[ii, jj][sel] * 1e6, -ds["displacement"].values[ii, jj][sel] * 1e6
-        rng = max(np.ptp(np.r_[top, slab]), 1e-12)
-        hi, lo = top.max() + 0.1 * rng, slab.min() - 0.1 * rng
-        ax.fill_between(dist[sel], top, hi, color="0.75", label="rigid indenter")
-        ax.fill_between(dist[sel], lo, slab, color="C0", alpha=0.35, label="slab")
-        ax.plot(dist[sel], slab, "C0-", lw=1)
-        ax.set_ylim(lo, hi)
-        ax.set_ylabel("height (μm)")
-        ax.legend(loc="best", fontsize=8)
-    ax.set_xlabel(f"distance along {'v' if not seed else 'x'} ({unit})")
-    ax.set_title("profile cut (dashed on the maps)")
-    if extra:
-        _distributions(fig, gs, ds, p[contact], ds["x"].values, ds["y"].values)
-    if path is not None:
-        fig.savefig(path, dpi=110)
-    return fig
-
-
-def _distributions(fig, gs, ds, p_in, x, y):
-    """Second row of a physical state figure: the pressure distribution P(p) in contact,
-    the surface's radially averaged power spectrum C(q) and, when adhesive, the distribution
-    of G/Δγ along the balanced front."""
-    ax = fig.add_subplot(gs[1, 0])
-    if p_in.size:
-        ax.hist(p_in * 1e-3, bins=60, density=True, color="C3", alpha=0.8)
-    ax.axvline(0.0, color="0.4", lw=0.8)
-    ax.set_xlabel("pressure in contact (kPa)")
-    ax.set_ylabel("P(p) (1/kPa)")
-    ax.set_title("pressure distribution")
-    ax = fig.add_subplot(gs[1, 1])
-    h = ds["heights"].values
-    hx, hy = x[1] - x[0], (y[1] - y[0]) if len(y) > 1 else 1.0
-    area = hx * hy * h.size
-    C = (hx * hy) ** 2 / area * np.abs(np.fft.fft2(h - h.mean())) ** 2  # m⁴
-    qx = 2 * np.pi * np.fft.fftfreq(h.shape[0], hx)
-    qy = 2 * np.pi * np.fft.fftfreq(h.shape[1], hy)
-    q = np.hypot(*np.meshgrid(qx, qy, indexing="ij"))
-    ok = q > 0
-    if ok.any() and len(y) > 2:
-        edges = np.geomspace(q[ok].min(), q[ok].max() * 1.0001, 40)
-        k = np.digitize(q[ok], edges) - 1  # bin of each mode
-        n = np.bincount(k, minlength=edges.size - 1)
-        Cc = np.bincount(k, weights=C[ok], minlength=edges.size - 1) / np.maximum(n, 1)
-        qc = np.sqrt(edges[:-1] * edges[1:])
-        pos = (n > 0) & (Cc > 1e-30 * max(Cc.max(), 1e-300))
-        ax.loglog(qc[pos], Cc[pos], "o-", ms=3)
-    ax.set_xlabel("wavenumber |q| (1/m)")
-    ax.set_ylabel("C(q) (m⁴)")
-    ax.set_title("surface power spectrum (radial mean)")
-    if "G_front" in ds:
-        ax = fig.add_subplot(gs[1, 2])
-        G = ds["G_front"].values
-        G = G[np.isfinite(G)]
-        if G.size:
-            ax.hist(G, bins=40, color="C4", alpha=0.8)
-        ax.axvline(1.0, color="0.4", lw=0.8)
-        ax.set_xlabel("G/Δγ on the balanced front")
-        ax.set_ylabel("front cells")
-        ax.set_title("release rate along the front")
+    return draw(ds, path)
 
 
 def plot_profile_1d(ds, path=None):
@@ -468,8 +349,11 @@ def plot_profile_1d(ds, path=None):
     axes[0].axhline(0.0, color="0.5", lw=0.8)
     axes[0].set_xlabel("k x (sliding along +x)")
     axes[0].set_ylabel("p/p* (compressive +)")
-    axes[0].set_title(f"{ds.attrs.get('model', '')}: status {ds['status'].item()}, "
+    status = ds["status"].item()
+    axes[0].set_title(f"{ds.attrs.get('model', '')}: status {status}, "
                       f"ã = {float(ds['a_tilde']):.4g}")
+    if not _verified(status):
+        _suptitle(fig, "", status, fontsize=10)
     axes[1].plot(x, ds["u_tilde"].values, "C0-")
     axes[1].set_xlabel("k x (sliding along +x)")
     axes[1].set_ylabel("u/Λ")

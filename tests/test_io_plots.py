@@ -69,10 +69,29 @@ def test_unwritable_output(dataset, tmp_path):
 
 
 def test_plot_contact_png(dataset, tmp_path):
+    """A bi-sinusoid state sliding along x: the pressure scale, clipped at its 99th
+    percentile, says so (an extend arrow, the peak in the bar's label); the power spectrum
+    of a single mode is a line of text, not a dot on empty axes; the velocity arrow is
+    drawn from a point (no text attached), exactly along x, its label apart."""
+    from spectralbem.plot_maps import _pressure_text
+
     fig = plot_contact(dataset, tmp_path / "c.png")
     labels = [ax.get_xlabel() for ax in fig.axes[:3]]
     assert labels == ["x (mm)"] * 3
-    assert "pressure (kPa)" in [ax.get_ylabel() for ax in fig.axes]
+    (image,) = fig.axes[1].get_images()
+    bar = image.colorbar
+    p = dataset.pressure.values[dataset.contact.values.astype(bool)]
+    assert p.max() * 1e-3 > image.norm.vmax and bar.extend == "max"
+    assert bar.ax.get_ylabel() == ("pressure (kPa)\nscale clipped: peak "
+                                   f"{_pressure_text(p.max())}")
+    (spectrum,) = [ax for ax in fig.axes if ax.get_title() == "surface power spectrum"]
+    assert not spectrum.get_lines() and not spectrum.axison
+    assert spectrum.texts[0].get_text().startswith("single mode\n|q| = 8.89e+03 1/m")
+    arrows = [a for a in fig.axes[0].texts if getattr(a, "arrow_patch", None) is not None]
+    assert len(arrows) == 1 and arrows[0].get_text() == ""
+    assert arrows[0].xy[1] == arrows[0].xyann[1] and arrows[0].xy[0] > arrows[0].xyann[0]
+    assert "v" in [t.get_text() for t in fig.axes[0].texts]
+    assert fig.axes[3].get_xlabel() == "distance along v (mm)"  # the profile cut
     assert (tmp_path / "c.png").stat().st_size > 10_000
 
 
@@ -414,6 +433,125 @@ def test_state_figure_has_title_block_diverging_pressure_and_cut():
     # a JKR disc is a crack tip all round: no front cell is marked as held by contact
     assert "crack tips 100 % of front" in maps[0].get_title()
     assert not maps[0].get_legend()
+    # tension and compression both readable: ticks at the scale's ends and at 0; the
+    # tensile spikes at the front clipped, with an arrow and the value that was cut off
+    norm, bar = pressure[0].norm, pressure[0].colorbar
+    ticks = list(bar.get_ticks())
+    assert ticks[0] == norm.vmin < 0.0 < norm.vmax == ticks[-1] and 0.0 in ticks
+    p = ds.pressure.values[ds.contact.values.astype(bool)] * 1e-3
+    low, high = p.min() < norm.vmin, p.max() > norm.vmax
+    assert bar.extend == {(True, True): "both", (True, False): "min",
+                          (False, True): "max", (False, False): "neither"}[(low, high)]
+    assert low and "scale clipped" in bar.ax.get_ylabel() and "min -" in bar.ax.get_ylabel()
+    # at rest: no velocity arrow, and the cut is along x
+    assert not [a for a in maps[0].texts if getattr(a, "arrow_patch", None) is not None]
+    assert fig.axes[3].get_xlabel() == "distance along x (at rest) (mm)"
+    plt.close(fig)
+
+
+def test_oblique_sliding_is_shown():
+    """A direction of sliding other than x is in the title, on an arrow (the seed's strip:
+    at its angle on screen, since its y is not to scale) and in the cut's axis label."""
+    import matplotlib.pyplot as plt
+
+    ds = sb.solve(load_scene(CASES / "oblique_sliding.toml", overrides={
+        "sinusoid.cells_per_wavelength": 512, "sinusoid.a0_tilde": 0.025}))
+    fig = plot_contact(ds)
+    assert "v at 40° to the wave vector x" in fig._suptitle.get_text()
+    arrows = [a for a in fig.axes[0].texts if getattr(a, "arrow_patch", None) is not None]
+    assert len(arrows) == 1
+    fig.canvas.draw()
+    (x0, y0), (x1, y1) = arrows[0].arrow_patch.get_path().vertices[[0, 1]]
+    assert np.degrees(np.arctan2(y1 - y0, x1 - x0)) == pytest.approx(40.0, abs=1.0)
+    assert "v (40° to x; y not to scale)" in [t.get_text() for t in fig.axes[0].texts]
+    assert fig.axes[2].get_xlabel() == "distance along x, the wave vector (v at 40° to x) (k⁻¹)"
+    plt.close(fig)
+    ds = sb.solve(load_scene(CASES / "rubber_rough.toml", overrides={
+        "grid.Nx": 32, "grid.Ny": 32, "surface.cutoff_wavelength": 1.25e-4,
+        "motion.direction_deg": 30.0}))
+    fig = plot_contact(ds)
+    assert "v = 0.004 m/s at 30° to x" in fig._suptitle.get_text()
+    (arrow,) = [a for a in fig.axes[0].texts if getattr(a, "arrow_patch", None) is not None]
+    (x0, y0), (x1, y1) = arrow.xyann, arrow.xy  # in the map's coordinates
+    assert np.degrees(np.arctan2(y1 - y0, x1 - x0)) == pytest.approx(30.0, abs=1e-9)
+    assert fig.axes[3].get_xlabel() == "distance along v, at 30° to x (mm)"
+    plt.close(fig)
+
+
+def test_unverified_states_are_unmistakable(dataset, results):
+    """A state whose status is not a verified one (solving.REPORTED) gets a red banner above
+    its title ("NOT CONVERGED — values unverified") and a red frame; a verified one
+    neither. The same for the 1D state figure and for a path's step maps."""
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import same_color
+
+    from spectralbem.plotting import VERIFIED
+    from spectralbem.solving import REPORTED
+
+    assert set(VERIFIED) == set(REPORTED)
+    fig = plot_contact(dataset)
+    assert "unverified" not in fig._suptitle.get_text()
+    assert not same_color(fig.get_edgecolor(), "C3")
+    plt.close(fig)
+    for status, head in (("not_converged", "NOT CONVERGED"), ("unstable", "STATUS UNSTABLE")):
+        for ds in (dataset.copy(), results["oned"].copy()):
+            ds["status"] = ((), status)
+            fig = plot_dataset(ds)
+            title = fig._suptitle
+            assert title.get_text().startswith(f"{head} — values unverified"), status
+            assert same_color(title.get_color(), "C3")
+            assert same_color(fig.get_edgecolor(), "C3") and fig.patch.get_linewidth() > 0
+            plt.close(fig)
+    ds = results["path"].copy(deep=True)
+    ds["status"] = ds["status"].astype(object)
+    ds["status"].values[1] = "not_converged"
+    fig = plot_dataset(ds)
+    titles = [ax.title for ax in fig.axes if ax.get_title().startswith("step")]
+    assert "NOT CONVERGED — values unverified" in titles[1].get_text()
+    assert same_color(titles[1].get_color(), "C3") and same_color(titles[0].get_color(), "k")
+    plt.close(fig)
+
+
+def test_path_maps_have_a_scale_and_the_load_with_its_unit(results):
+    """Each step map of a path has ticks and an x label in mm as the single state's map
+    (y only on the first), and its title names the load with its symbol and unit."""
+    import matplotlib.pyplot as plt
+
+    fig = plot_dataset(results["path"])
+    maps = [ax for ax in fig.axes if ax.get_title().startswith("step")]
+    assert [ax.get_xlabel() for ax in maps] == ["x (mm)"] * len(maps)
+    assert maps[0].get_ylabel() == "y (mm)"
+    assert all(len(ax.get_xticks()) >= 2 for ax in maps)
+    assert maps[0].get_title().startswith("step 0: p̄ = 2000 Pa, area ")
+    plt.close(fig)
+
+
+def test_refinement_and_sweep_legends_carry_units(tmp_path):
+    """The refinement figure names each curve by its load with the unit ("p̄ = 1000 Pa", not
+    "step 0") and each panel as a percentage difference without the quantity's unit; a
+    sweep's legend gives the other swept value's unit."""
+    import matplotlib.pyplot as plt
+
+    from spectralbem.refinement import refine
+
+    ds = refine(CASES / "rubber_rough.toml", [32, 64], tmp_path / "r.nc", overrides={
+        "grid.Nx": 32, "grid.Ny": 32, "surface.cutoff_wavelength": 1.25e-4,
+        "control.mean_pressure": [1e4, 2e4]})
+    fig = plot_dataset(ds)
+    texts = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert texts == ["p̄ = 10000 Pa", "p̄ = 20000 Pa"]
+    ylabels = {ax.get_ylabel() for ax in fig.axes if ax.get_visible()}
+    assert "Δ: % difference from N = 64" in ylabels and not any("(m)" in y for y in ylabels)
+    plt.close(fig)
+    sweep = xr.Dataset({"area_fraction": (("speed", "mean_pressure"), [[0.1, 0.2], [0.05, 0.1]],
+                                          {"units": "1"})},
+                       coords={"speed": ("speed", [1e-4, 1e-2], {"units": "m/s"}),
+                               "mean_pressure": ("mean_pressure", [5e3, 2e4], {"units": "Pa"})},
+                       attrs={"sweep_keys": '["motion.speed", "control.mean_pressure"]'})
+    fig = plot_dataset(sweep)
+    texts = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert texts == ["mean_pressure = 5000 Pa", "mean_pressure = 20000 Pa"]
+    assert fig.axes[0].get_xlabel() == "motion.speed (m/s)"
     plt.close(fig)
 
 

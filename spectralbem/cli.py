@@ -162,20 +162,36 @@ def _sweep(args) -> int:
     _check_output(out, [args.scene], DATASET_SUFFIXES, DATASET_HINT)
     over = [parse_over(o) for o in args.over]
     t = time.perf_counter()
+    counts = {}
+
+    def parts_checked(kept, todo, parts):  # named as the command line gave -o
+        counts.update(kept=kept, todo=todo, parts=f"{out}.parts")
+
     try:
         path = run_sweep(args.scene, over, out, overrides=_overrides(args.set),
                          scheduler=args.scheduler, workers=args.workers,
                          progress=not args.quiet, dashboard=args.dashboard,
                          history=_history(args.argv), strict=args.strict,
-                         on_warning=lambda m: print(f"warning: {m}", file=sys.stderr))
+                         on_warning=lambda m: print(f"warning: {m}", file=sys.stderr),
+                         on_parts=parts_checked)
     except SweepInterrupted as exc:  # Ctrl-C: one line, the finished points are on disk
         print(f"spectralbem sweep: interrupted: {exc}", file=sys.stderr)
         return 130
     bad, total = _unverified(path)
     print(f"sweep of {Path(args.scene).name} finished in {time.perf_counter() - t:.1f} s "
-          f"-> {path}" + (f"; {bad} of {total} states not verified (not_converged: their "
-                          f"messages are in {path}.parts/)" if bad else ""))
+          f"-> {path}" + _sweep_counts(counts)
+          + (f"; {bad} of {total} states not verified (not_converged: their "
+             f"messages are in {path}.parts/)" if bad else ""))
     return 2 if bad else 0
+
+
+def _sweep_counts(counts: dict) -> str:
+    """``; n points: k kept from OUT.nc.parts, m solved`` (what a rerun reused)."""
+    if not counts:
+        return ""
+    n = counts["kept"] + counts["todo"]
+    return (f"; {n} point{'s' if n != 1 else ''}: {counts['kept']} kept from "
+            f"{counts['parts']}, {counts['todo']} solved")
 
 
 def _unverified(path) -> tuple:
@@ -253,10 +269,13 @@ def _plot(args) -> int:
 
 
 def _validate(args) -> int:
+    import shlex
+
     from .validate import main as vmain
 
     try:
-        vmain((["--quick"] if args.quick else []) + ["-o", str(args.output)])
+        vmain((["--quick"] if args.quick else []) + ["-o", str(args.output)],
+              command=f"spectralbem {shlex.join(args.argv)}")
     except SystemExit as exc:  # validate reports a failed tolerance this way
         if exc.code not in (None, 0):
             raise RuntimeError(str(exc.code)) from None
@@ -356,7 +375,8 @@ def build_parser() -> argparse.ArgumentParser:
             "Run the 2D solver against the 1D method and the references; writes "
             "validation.md and figures/ into -o (default: the current directory).")
     p.add_argument("--quick", action="store_true", help="a few points only")
-    p.add_argument("-o", "--output", default=".", help="output folder (default: .)")
+    p.add_argument("-o", "--output", default=".",
+                   help="output folder, created with its parents if missing (default: .)")
     p.set_defaults(func=_validate)
     p = cmd("info", "versions, FFT backend and threads",
             "Print versions, the FFT backend and thread count.")

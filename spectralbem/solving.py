@@ -343,6 +343,92 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
 #: an adhesiveless grid solve shows its iterations from this many cells (512²: seconds)
 PROGRESS_CELLS = 512 * 512
 
+#: seconds between two progress lines when stderr is not a terminal (:func:`progress_bar`)
+LOG_INTERVAL = 10.0
+
+
+def _terminal(stream) -> bool:
+    try:
+        return bool(stream.isatty())
+    except (AttributeError, ValueError, OSError):  # no isatty, or a closed stream
+        return False
+
+
+class _LineProgress:
+    """The progress of :func:`progress_bar` on a stderr that is not a terminal (a log file,
+    a pipe): plain lines ``desc: n/total unit, text (t s)``, the first at the first count
+    after a start or reset, then at most one per :data:`LOG_INTERVAL` seconds and the last
+    count of a known total; no carriage returns or escape codes.  The part of tqdm's
+    interface the package uses."""
+
+    def __init__(self, iterable=None, desc: str = "", total=None, initial: int = 0,
+                 unit: str = "it", **_):
+        import sys
+        import time
+
+        if total is None and iterable is not None and hasattr(iterable, "__len__"):
+            total = len(iterable)
+        self.iterable, self.desc, self.total, self.unit = iterable, desc, total, unit
+        self.n, self.postfix, self.file = initial, "", sys.stderr
+        self._clock, self._start, self._last, self._shown = (time.monotonic, time.monotonic(),
+                                                             None, None)
+
+    def __iter__(self):
+        for x in self.iterable:
+            yield x
+            self.update(1)
+
+    def set_postfix_str(self, text: str = "", refresh: bool = True) -> None:
+        self.postfix = str(text)
+
+    def update(self, n: int = 1) -> None:
+        self.n += n
+        self.refresh()
+
+    def refresh(self) -> None:
+        now = self._clock()
+        done = (self.total is not None and self.n >= self.total
+                and (self.n, self.postfix) != self._shown)
+        if self._last is not None and now - self._last < LOG_INTERVAL and not done:
+            return
+        self._line(now)
+
+    def _line(self, now: float) -> None:
+        self._last, self._shown = now, (self.n, self.postfix)
+        count = f"{self.n}/{self.total}" if self.total else f"{self.n}"
+        text = f", {self.postfix}" if self.postfix else ""
+        try:
+            print(f"{self.desc}: {count} {self.unit}{text} ({now - self._start:.0f} s)",
+                  file=self.file, flush=True)
+        except (OSError, ValueError):  # a closed or broken stream: progress is optional
+            pass
+
+    def reset(self, total=None) -> None:
+        """A new count (the next state of a path): the last one's final line first."""
+        self.close()
+        self.n, self.postfix, self._last, self._shown = 0, "", None, None
+        if total is not None:
+            self.total = total
+
+    def close(self) -> None:
+        """The final count and text, unless the last line showed them."""
+        if self._last is not None and (self.n, self.postfix) != self._shown:
+            self._line(self._clock())
+
+
+def progress_bar(iterable=None, **kw):
+    """A tqdm progress bar on a terminal; where stderr is not one (a log, a pipe, a batch
+    job) plain progress lines at most every :data:`LOG_INTERVAL` seconds instead, without
+    the carriage returns and cursor escapes a bar writes (:class:`_LineProgress`).
+    Keywords: tqdm's (``desc``, ``total``, ``initial``, ``unit``, ``position``, ``leave``)."""
+    import sys
+
+    if _terminal(sys.stderr):
+        from tqdm import tqdm
+
+        return tqdm(iterable, **kw)
+    return _LineProgress(iterable, **kw)
+
 
 def _bar_progress(bar):
     """A solve's progress callback (the adhesive front's outer iterations, the contact
@@ -516,16 +602,14 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
     it, bar, bars = steps, None, []
     try:  # the bars are closed before anything else is printed (Ctrl-C included)
         if progress:
-            from tqdm import tqdm
-
             if len(steps) > 1:
-                it = tqdm(steps, desc="path", unit="step")
+                it = progress_bar(steps, desc="path", unit="step")
                 bars.append(it)
             if scene.model == "grid2d" and (scene.adhesive
                                             or scene.cell.shape[0] * scene.cell.shape[1]
                                             >= PROGRESS_CELLS):
-                bar = tqdm(desc="front" if scene.adhesive else "contact", unit="it",
-                           position=int(len(steps) > 1), leave=False)
+                bar = progress_bar(desc="front" if scene.adhesive else "contact", unit="it",
+                                   position=int(len(steps) > 1), leave=False)
                 bars.append(bar)
         prev = None  # the control value of the last verified partial state
         for v in it:
@@ -560,12 +644,17 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
         ds.attrs[f"prescribed_{name}"] = v  # the state's scalars are what it carries
     else:
         name = scene.control[0]
+        diagnostics = [d.attrs.pop("solver_diagnostics", None) for d in out]
         for d in out:  # per-step solver messages survive the concatenation as a variable
             msg = d.attrs.get("solver_message", d.attrs.get("message", ""))
             d.attrs.pop("message", None)
             d["solver_message"] = ((), str(msg), {"units": "1",
                                                   "long_name": "solver message of the step"})
         ds = xr.concat(out, dim="step", combine_attrs="drop_conflicts", data_vars="all")
+        if any(x is not None for x in diagnostics):
+            # each step's diagnostics (the JSON object of a single state), in step order
+            ds.attrs["solver_diagnostics"] = json.dumps(
+                [None if x is None else json.loads(x) for x in diagnostics])
         vals = np.asarray(scene.control[1], float)[:len(out)]
         if scene.kind == "sinusoid" and name == "mean_pressure":
             name, vals = "p_tilde", vals / 0.5

@@ -372,7 +372,8 @@ def _assemble(files, names, keys, grids, raw, digest, version, history=None):
 def run_sweep(scene_file, over: list, out, *, overrides: dict | None = None,
               scheduler: str | None = None, workers: int | None = None,
               progress: bool = True, retries: int = 2, dashboard: bool = False,
-              history: str | None = None, strict: bool = False, on_warning=None):
+              history: str | None = None, strict: bool = False, on_warning=None,
+              on_parts=None):
     """Run (or resume) a sweep; returns the path of the assembled dataset.
 
     ``over``: list of (key, values); keys are 'section.key' or a bare name unique in the scene.
@@ -381,6 +382,8 @@ def run_sweep(scene_file, over: list, out, *, overrides: dict | None = None,
     Every point is validated first, with its plausibility warnings (each message once):
     ``strict`` refuses the sweep on them, else ``on_warning(text)`` (default
     :func:`warnings.warn`) reports them.
+    ``on_parts(kept, todo, parts)``: told once the parts folder is checked, before any solve:
+    the number of points kept from earlier runs, the number to solve now, and the folder.
     Raises :class:`SweepInterrupted` on Ctrl-C (finished points are kept).
     """
     from . import __version__
@@ -435,6 +438,8 @@ def run_sweep(scene_file, over: list, out, *, overrides: dict | None = None,
                     "inputs": inputs}
             manifest = _Manifest.open(parts / "manifest.json", head)
             todo = _check_parts(files, manifest, digest)
+            if on_parts is not None:
+                on_parts(len(points) - len(todo), len(todo), parts)
             if todo:
                 allpt = [{**(overrides or {}), **pt} for pt in points]
                 _compute(todo, allpt, raw, base, digest, files, manifest, points, parts,
@@ -460,11 +465,11 @@ def _compute(todo, allpt, raw, base, digest, files, manifest, points, parts, sch
         futs = {client.submit(_run_point, raw, str(base), allpt[i], i, digest,
                               str(files[i]), key=f"sweep-{digest}-{i}", pure=False,
                               retries=retries): i for i in todo}
-        if progress:
-            from tqdm import tqdm
+        if progress:  # a bar on a terminal, else plain lines (solving.progress_bar)
+            from .solving import progress_bar
 
-            bar = tqdm(total=len(points), initial=len(points) - len(todo), unit="point",
-                       desc="sweep")
+            bar = progress_bar(total=len(points), initial=len(points) - len(todo),
+                               unit="point", desc="sweep")
         for fut in as_completed(futs):
             i = futs[fut]
             try:

@@ -480,3 +480,88 @@ def test_the_recorded_scene_reruns(case, ov):
     for v in ("status", "area_fraction", "a_tilde", "mu", "mu_bar"):
         if v in ds:
             assert again[v].values.tolist() == ds[v].values.tolist(), v
+
+
+def _guide() -> str:
+    return (CASES.parent / "docs" / "user_guide.md").read_text()
+
+
+def test_user_guide_api_snippet_works_only_under_the_main_guard(tmp_path, monkeypatch):
+    """The user guide's Python API example does all its work under ``if __name__ ==
+    "__main__":``: dask's worker processes run the script's top level again, so at top level
+    there are only imports and definitions.  Run as a worker would (``__mp_main__``), the
+    snippet imports its names and writes nothing."""
+    import ast
+
+    block = _guide().split("## Python API", 1)[1].split("```python", 1)[1].split("```", 1)[0]
+    tree = ast.parse(block)
+    guarded = []
+    for node in tree.body:
+        if isinstance(node, ast.If):
+            assert ast.unparse(node.test) == "__name__ == '__main__'", ast.unparse(node.test)
+            guarded.append(node)
+        else:
+            assert isinstance(node, (ast.Import, ast.ImportFrom, ast.FunctionDef)), \
+                ast.unparse(node)
+    assert len(guarded) == 1
+    work = " ".join(ast.unparse(n) for n in tree.body if not isinstance(n, ast.If))
+    for call in ("load_scene(", "sb.solve(", "to_netcdf(", "plot_dataset(", "run_sweep("):
+        assert call in block and call in work  # in the function the guard calls
+    monkeypatch.chdir(tmp_path)
+    namespace = {"__name__": "__mp_main__"}
+    exec(compile(block, "user_guide.md", "exec"), namespace)
+    assert callable(namespace["main"]) and list(tmp_path.iterdir()) == []
+
+
+def test_every_case_is_listed_in_the_user_guide():
+    """The user guide's Cases section names every scene of cases/."""
+    cases = _guide().split("\n## Cases", 1)[1].split("\n## ", 1)[0]
+    for p in sorted(CASES.glob("*.toml")):
+        assert f"`{p.stem}`" in cases, p.stem
+
+
+def test_path_dataset_has_each_steps_solver_diagnostics():
+    """A load path of a physical grid scene keeps ``solver_diagnostics`` as a single state
+    does: a JSON list, one object per step (it was dropped, the steps' attributes
+    differing); the documented outputs include ``mu_profile``."""
+    import json
+
+    ds = sb.solve(load_scene(CASES / "jkr_sphere.toml", overrides={
+        "grid.Nx": 32, "grid.Ny": 32, "adhesion.a0": 3.2e-5,
+        "control.mean_pressure": [1e3, 0.0]}))
+    diag = json.loads(ds.attrs["solver_diagnostics"])
+    assert isinstance(diag, list) and len(diag) == ds.sizes["step"] == 2
+    assert all("front-layer" in d["method"] and "a0" in d for d in diag)
+    single = sb.solve(load_scene(mutate("control.mean_pressure", [2e3, 3e3])))
+    diag = json.loads(single.attrs["solver_diagnostics"])
+    assert [d["method"] for d in diag] == [json.loads(sb.solve(load_scene(
+        mutate("control.mean_pressure", p))).attrs["solver_diagnostics"])["method"]
+        for p in (2e3, 3e3)]
+    assert "mu_profile" in ds and "`mu_profile`" in _guide()
+
+
+def test_progress_on_a_stderr_that_is_no_terminal_is_plain_lines(capsys, monkeypatch):
+    """``progress=True`` draws tqdm bars on a terminal only; on a log or a pipe (here
+    pytest's capture) it writes plain lines, at most one per LOG_INTERVAL seconds and each
+    bar's last count and text (on close or reset), with no carriage return or escape
+    code."""
+    from spectralbem import solving
+
+    assert not solving._terminal(__import__("sys").stderr)
+    sb.solve(load_scene(CASES / "jkr_sphere.toml", overrides={
+        "grid.Nx": 32, "grid.Ny": 32, "adhesion.a0": 3.2e-5,
+        "control.mean_pressure": [1e3, 0.0]}), progress=True)
+    err = capsys.readouterr().err
+    assert "\r" not in err and "\x1b" not in err, repr(err)
+    lines = [ln for ln in err.splitlines() if ln.startswith(("path:", "front:"))]
+    assert sum(ln.startswith("path:") for ln in lines) == 2  # the first and the last step
+    assert lines[-2].startswith("path: 2/2 step"), err
+    # each state's front ends with its final line: the outcome and the balanced fraction
+    assert lines[-1].startswith("front:") and "balanced 1.000" in lines[-1], err
+    monkeypatch.setattr(solving, "LOG_INTERVAL", 3600.0)
+    bar = solving.progress_bar(total=5, desc="sweep", unit="point")
+    for _ in range(5):
+        bar.update(1)
+    bar.close()
+    assert capsys.readouterr().err.splitlines() == ["sweep: 1/5 point (0 s)",
+                                                    "sweep: 5/5 point (0 s)"]

@@ -87,6 +87,11 @@ def test_killed_sweep_resumes_without_recomputing(tmp_path, ref6):
     for name, st in before.items():  # finished points were neither recomputed nor rewritten
         assert after[name] == st, name
     assert_matches(read_dataset(out), ref6)
+    # the last line says what the rerun reused and what it solved
+    assert (f"; 6 points: {len(before)} kept from {out}.parts, {6 - len(before)} solved"
+            in r.stdout), r.stdout
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=300)  # nothing left
+    assert r.returncode == 0 and f"; 6 points: 6 kept from {out}.parts, 0 solved" in r.stdout
 
 
 def crash_once(index, marker):
@@ -158,11 +163,31 @@ def test_sweep_dataset_records_the_scene_as_run_and_the_command(tmp_path):
     from spectralbem.sweep import run_sweep
 
     out = tmp_path / "g.nc"
+    told = []
     path = run_sweep(CASE, [("zeta", [0.1, 1.0])], out, overrides={"sinusoid.Gamma": 0.05},
-                     workers=1, progress=False, history="2026-11-28: spectralbem sweep test")
+                     workers=1, progress=False, history="2026-11-28: spectralbem sweep test",
+                     on_parts=lambda *a: told.append(a))
     ds = read_dataset(path)
     assert json.loads(ds.attrs["scene"])["sinusoid"]["Gamma"] == 0.05
     assert "spectralbem sweep test" in ds.attrs["history"]
+    parts = Path(str(out) + ".parts")
+    assert told == [(0, 2, parts)]  # on_parts: kept from earlier runs, to solve, the folder
+    run_sweep(CASE, [("zeta", [0.1, 1.0])], out, overrides={"sinusoid.Gamma": 0.05},
+              progress=False, on_parts=lambda *a: told.append(a))
+    assert told[1] == (2, 0, parts)
+
+
+def test_sweep_progress_on_a_pipe_is_plain_lines(tmp_path):
+    """Without -q, a sweep whose stderr is a pipe (a log) shows plain progress lines, no
+    tqdm bar: no carriage returns or escape codes."""
+    out = tmp_path / "p.nc"
+    cmd = [sys.executable, "-m", "spectralbem.cli", "sweep", str(CASE), "--over",
+           "zeta=0.1,1.0", "-o", str(out), "--workers", "1"]
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    assert "\r" not in r.stderr and "\x1b" not in r.stderr, repr(r.stderr)
+    assert "sweep: 2/2 point" in r.stderr, r.stderr
+    assert "; 2 points: 0 kept from" in r.stdout and ", 2 solved" in r.stdout, r.stdout
 
 
 def test_strict_sweep_checks_every_point(tmp_path):

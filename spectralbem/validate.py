@@ -282,27 +282,37 @@ def write_report(rows, oblique, jkr=(), rough=None, fractional=(), out: Path = P
 
     figdir = out / "figures"
     figdir.mkdir(parents=True, exist_ok=True)
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4), constrained_layout=True)
-    for p in sorted({r["p_tilde"] for r in rows}):
-        rr = [r for r in rows if r["p_tilde"] == p]
+    fig, ax = plt.subplots(1, 3, figsize=(15, 4.2), constrained_layout=True)
+    names = {"a_tilde": "ã", "G1_over_dgamma": "G1/Δγ", "G2_over_dgamma": "G2/Δγ",
+             "mu_bar": "μ̄"}
+    styles = {p: ("-", "--", ":", "-.")[i % 4]
+              for i, p in enumerate(sorted({r["p_tilde"] for r in rows}))}
+    for p, ls in styles.items():
+        rr = sorted((r for r in rows if r["p_tilde"] == p), key=lambda r: r["zeta"])
         z = [r["zeta"] for r in rr]
-        for j, k in enumerate(("a_tilde", "G1_over_dgamma", "G2_over_dgamma")):
-            ax[0].semilogx(z, [r[k][1] for r in rr], f"C{j}-", lw=1)
-            ax[0].semilogx(z, [r[k][0] for r in rr], f"C{j}o", ms=3,
-                           label=f"{k}, p̃ = {p}" if p == 0.15 else None)
-            ax[1].semilogx(z, [abs(r[k][2]) for r in rr], f"C{j}o-", ms=3,
-                           label=f"|Δ| {k}" if p == 0.15 else None)
-        ax[1].semilogx(z, [abs(r["mu_bar"][2]) for r in rr], "C3o-", ms=3,
-                       label="|Δ| mu_bar" if p == 0.15 else None)
-    ax[0].set_xlabel("ζ")
-    ax[0].set_title("2D grid (dots) vs 1D method (lines)")
-    ax[0].legend(fontsize=7)
-    ax[1].set_yscale("log")
-    ax[1].axhline(0.01, color="0.5", ls=":")
-    ax[1].axhline(0.02, color="0.5", ls="--")
-    ax[1].set_xlabel("ζ")
-    ax[1].set_title("relative difference (G: to max(|G|, Δγ); dotted 1 %, dashed 2 %)")
-    ax[1].legend(fontsize=7)
+        for j, (k, a) in enumerate((("a_tilde", ax[0]), ("G1_over_dgamma", ax[1]),
+                                    ("G2_over_dgamma", ax[1]))):
+            c = f"C{j}"  # 1D: open circles joined; 2D grid: dots on them
+            a.semilogx(z, [r[k][1] for r in rr], ls=ls, color=c, marker="o", mfc="none",
+                       ms=6, lw=0.8, label=f"{names[k]} 1D, p̃∞ = {p:g}")
+            a.semilogx(z, [r[k][0] for r in rr], "o", color=c, ms=2.5,
+                       label=f"{names[k]} 2D, p̃∞ = {p:g}")
+        for j, k in enumerate(("a_tilde", "G1_over_dgamma", "G2_over_dgamma", "mu_bar")):
+            ax[2].semilogx(z, [abs(r[k][2]) for r in rr], f"C{j}", ls=ls, marker="o", ms=3,
+                           label=f"{names[k]}, p̃∞ = {p:g}")
+    ax[0].set(xlabel="ζ", ylabel="ã = k a (contact half-width)",
+              title="contact size: 1D method (open) and 2D grid (dots)")
+    ax[1].set_yscale("symlog", linthresh=0.1)  # G1 changes sign near ζ = 5
+    ax[1].axhline(1.0, color="0.6", lw=0.6)
+    ax[1].set(xlabel="ζ", ylabel="G/Δγ (symlog)",
+              title="release rates: 1D method (open) and 2D grid (dots)")
+    ax[2].set_yscale("log")
+    ax[2].axhline(0.01, color="0.5", ls=":")
+    ax[2].axhline(0.02, color="0.5", ls="--")
+    ax[2].set(xlabel="ζ", ylabel="|2D − 1D| / 1D (G: / max(|G|, Δγ))",
+              title="relative difference (dotted 1 %, dashed 2 %)")
+    for a in ax:
+        a.legend(fontsize=6)
     fig.savefig(figdir / "validation_sinusoid.png", dpi=110)
     plt.close(fig)
     lines = _table(rows)

@@ -182,10 +182,10 @@ def sweep(zeta, beta: float, Gamma: float, *, p_tilde=None, delta_tilde=None, a0
     results = [None] * zetas.size
     guess = None
     it = order
-    if progress:
-        from tqdm import tqdm
+    if progress:  # a bar on a terminal, plain lines elsewhere
+        from ..solving import progress_bar
 
-        it = tqdm(order, desc="zeta sweep")
+        it = progress_bar(order, desc="zeta sweep")
     for i in it:
         ds = solve(zetas[i], beta, Gamma, p_tilde=p_tilde, delta_tilde=delta_tilde,
                    a0_tilde=a0_tilde, modes=modes, guess=guess)

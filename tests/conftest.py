@@ -8,3 +8,21 @@ matplotlib.use("Agg")
 @pytest.fixture
 def rng():
     return np.random.default_rng(12345)
+
+
+@pytest.fixture
+def canned_validate(monkeypatch):
+    """spectralbem.validate with its comparisons replaced by canned rows (2D = 1D exactly):
+    the report and its figure are written without the minutes of the real solves."""
+    from spectralbem import validate as v
+
+    def fake(zeta, p_tilde, direction_deg=0.0, ny=2, n=None):
+        row = {"zeta": zeta, "p_tilde": p_tilde, "N": n or 1024, "a0_eff": v.A0,
+               "time_2d": 0.0, "status": "partial"}
+        row.update({k: (1.0, 1.0, 0.0) for k in v.KEYS})
+        if direction_deg:
+            row["mu_lateral"] = (0.0, 0.0)
+        return row
+
+    monkeypatch.setattr(v, "compare", fake)
+    return v

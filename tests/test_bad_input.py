@@ -222,21 +222,12 @@ def test_plot_output_is_an_image(tmp_path, capsys):
     assert not (tmp_path / "p.nc").exists()
 
 
-def test_validate_creates_its_output_folder_and_names_the_command(tmp_path, monkeypatch):
+def test_validate_creates_its_output_folder_and_names_the_command(tmp_path, monkeypatch,
+                                                                   canned_validate):
     """``validate -o out`` creates the folder (and its parents) when missing, and
     validation.md names the command that wrote it and, for --quick, that it was a quick run
     (the comparisons are replaced by canned rows: the real run takes minutes)."""
-    from spectralbem import validate as v
-
-    def fake(zeta, p_tilde, direction_deg=0.0, ny=2, n=None):
-        row = {"zeta": zeta, "p_tilde": p_tilde, "N": n or 1024, "a0_eff": v.A0,
-               "time_2d": 0.0, "status": "partial"}
-        row.update({k: (1.0, 1.0, 0.0) for k in v.KEYS})
-        if direction_deg:
-            row["mu_lateral"] = (0.0, 0.0)
-        return row
-
-    monkeypatch.setattr(v, "compare", fake)
+    v = canned_validate
     monkeypatch.setattr(v, "jkr_sphere", lambda: ())  # the full run's sections: left out
     monkeypatch.setattr(v, "rough_cycle", lambda: None)
     monkeypatch.chdir(tmp_path)

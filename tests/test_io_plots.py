@@ -372,20 +372,10 @@ def test_no_panel_of_round_off_friction():
     assert "μ" in labels
 
 
-def test_validate_writes_where_output_says(tmp_path, monkeypatch):
+def test_validate_writes_where_output_says(tmp_path, monkeypatch, canned_validate):
     """``validate -o DIR`` writes DIR/validation.md and DIR/figures/, never the source tree
     (the comparisons are replaced by canned rows here: the real run takes minutes)."""
-    from spectralbem import validate as v
-
-    def fake(zeta, p_tilde, direction_deg=0.0, ny=2, n=None):
-        row = {"zeta": zeta, "p_tilde": p_tilde, "N": n or 1024, "a0_eff": v.A0,
-               "time_2d": 0.0, "status": "partial"}
-        row.update({k: (1.0, 1.0, 0.0) for k in v.KEYS})
-        if direction_deg:
-            row["mu_lateral"] = (0.0, 0.0)
-        return row
-
-    monkeypatch.setattr(v, "compare", fake)
+    v = canned_validate
     docs = Path(v.__file__).resolve().parent.parent / "docs"
     before = (docs / "validation.md").read_bytes() if (docs / "validation.md").exists() else b""
     monkeypatch.chdir(tmp_path)

@@ -417,14 +417,19 @@ class _LineProgress:
 
 
 def progress_bar(iterable=None, **kw):
-    """A tqdm progress bar on a terminal; where stderr is not one (a log, a pipe, a batch
-    job) plain progress lines at most every :data:`LOG_INTERVAL` seconds instead, without
-    the carriage returns and cursor escapes a bar writes (:class:`_LineProgress`).
+    """A tqdm progress bar on a terminal (and in a Jupyter notebook); where stderr is not one
+    (a log, a pipe, a batch job) plain progress lines at most every :data:`LOG_INTERVAL`
+    seconds instead, without the carriage returns and cursor escapes a bar writes
+    (:class:`_LineProgress`).
     Keywords: tqdm's (``desc``, ``total``, ``initial``, ``unit``, ``position``, ``leave``)."""
     import sys
 
     if _terminal(sys.stderr):
         from tqdm import tqdm
+
+        return tqdm(iterable, **kw)
+    if "ipykernel" in sys.modules:  # a notebook: its widget bar (stderr is no terminal there)
+        from tqdm.auto import tqdm
 
         return tqdm(iterable, **kw)
     return _LineProgress(iterable, **kw)

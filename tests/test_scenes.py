@@ -540,6 +540,23 @@ def test_path_dataset_has_each_steps_solver_diagnostics():
     assert "mu_profile" in ds and "`mu_profile`" in _guide()
 
 
+def test_progress_in_a_notebook_is_a_bar(monkeypatch):
+    """A notebook's stderr is no terminal, but it shows bars: with an IPython kernel loaded
+    progress_bar gives tqdm's (tqdm.auto), elsewhere off a terminal plain lines."""
+    import sys
+    import types
+
+    from tqdm.std import tqdm
+
+    from spectralbem import solving
+
+    assert isinstance(solving.progress_bar(total=2), solving._LineProgress)
+    monkeypatch.setitem(sys.modules, "ipykernel", types.ModuleType("ipykernel"))
+    bar = solving.progress_bar(total=2, desc="x", disable=True)
+    assert isinstance(bar, tqdm)
+    bar.close()
+
+
 def test_progress_on_a_stderr_that_is_no_terminal_is_plain_lines(capsys, monkeypatch):
     """``progress=True`` draws tqdm bars on a terminal only; on a log or a pipe (here
     pytest's capture) it writes plain lines, at most one per LOG_INTERVAL seconds and each

@@ -181,7 +181,8 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "states not verified; dashed: the coarse-grid start; stars and crosses: the "
              "elastic edge extrapolated to a0 → 0, `--extrapolate-a0`; the elastic a0 = one cell "
              "row is the scan below; μ's u-form, −Σ p v̂·∇u on the mask, is drawn for "
-             "comparison with the reported μ, docs/theory.md, outputs).", "",
+             "comparison with the reported μ, "
+             "[docs/theory.md, \"Outputs\"](theory.md#outputs)).", "",
              "## How to read the tables", "",
              "- The error columns are Richardson estimates from the three finest grids of a "
              "table: nan where the differences do not shrink monotonically or shrink slower "
@@ -229,7 +230,8 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "coarse-grid start reads μ_a +3 % and −8 % on loading at 256² and 512², −20 % "
              "and −13 % on unloading, where its area and μ stay within 0.6 % (but for the "
              "512² unloading state: area −4.2 %, μ −1.5 %); the two starts at 1024² differ by 12 % "
-             "(docs/theory.md, \"Known limits\"). The spread between starts is the "
+             "([docs/theory.md, \"Known limits\"](theory.md#known-limits)). The spread "
+             "between starts is the "
              "resolution of the question \"the state at this load\" on this surface, and "
              "for μ_a it is wider than 5 %.",
              "- **Unloading needs 512²** here. A coarse grid adds equilibria of its own: the "
@@ -238,13 +240,15 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "in steps of 5 kPa: a spread of 2.9 %), where the 512² state reads "
              "0.3024-0.3029 (0.2 %); the 512² unloading state sampled at 256² is balanced "
              "there too, and the 256² state carried to 512² recedes to the 512² path's "
-             "state (docs/theory.md, load-path steps). The SLS unloading state at 256² is "
+             "state ([docs/theory.md, \"Load-path steps\"](theory.md#load-path-steps)). The "
+             "SLS unloading state at 256² is "
              "2 % below 512² and 1024², which agree within 0.2 %.",
              "- **μ_a at 3e4 Pa and on unloading** is not converged at 1024² (16 % and 10 % "
              "from 512²): G1 − G2 is 0.13-0.17 Δγ there, so a 1 % move of G1 moves μ_a by "
              "7-8 %, and at 3e4 Pa about 90 % of μ_a sits on the edges of the non-contact "
-             "lakes, whose G1 still grows by 13 % per doubling (docs/theory.md, "
-             "\"Known limits\"). At 2048² (8 cells per vτ; `python bench/viscoelastic.py "
+             "lakes, whose G1 still grows by 13 % per doubling ([docs/theory.md, "
+             "\"Known limits\"](theory.md#known-limits)). At 2048² (8 cells per vτ; "
+             "`python bench/viscoelastic.py "
              "--large`) the loading state from the coarse-grid start at front_tol = 1 cell "
              "reads μ_a 3.4 % below the 1024² state from the same start and tolerance (G1 "
              "and G2 within 0.3 %).", "",

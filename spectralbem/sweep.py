@@ -465,8 +465,8 @@ def _compute(todo, allpt, raw, base, digest, files, manifest, points, parts, sch
         futs = {client.submit(_run_point, raw, str(base), allpt[i], i, digest,
                               str(files[i]), key=f"sweep-{digest}-{i}", pure=False,
                               retries=retries): i for i in todo}
-        if progress:  # a bar on a terminal, else plain lines (solving.progress_bar)
-            from .solving import progress_bar
+        if progress:  # a bar on a terminal, else plain lines (progress.progress_bar)
+            from .progress import progress_bar
 
             bar = progress_bar(total=len(points), initial=len(points) - len(todo),
                                unit="point", desc="sweep")

@@ -548,11 +548,11 @@ def test_progress_in_a_notebook_is_a_bar(monkeypatch):
 
     from tqdm.std import tqdm
 
-    from spectralbem import solving
+    from spectralbem import progress
 
-    assert isinstance(solving.progress_bar(total=2), solving._LineProgress)
+    assert isinstance(progress.progress_bar(total=2), progress._LineProgress)
     monkeypatch.setitem(sys.modules, "ipykernel", types.ModuleType("ipykernel"))
-    bar = solving.progress_bar(total=2, desc="x", disable=True)
+    bar = progress.progress_bar(total=2, desc="x", disable=True)
     assert isinstance(bar, tqdm)
     bar.close()
 
@@ -562,9 +562,9 @@ def test_progress_on_a_stderr_that_is_no_terminal_is_plain_lines(capsys, monkeyp
     pytest's capture) it writes plain lines, at most one per LOG_INTERVAL seconds and each
     bar's last count and text (on close or reset), with no carriage return or escape
     code."""
-    from spectralbem import solving
+    from spectralbem import progress
 
-    assert not solving._terminal(__import__("sys").stderr)
+    assert not progress._terminal(__import__("sys").stderr)
     sb.solve(load_scene(CASES / "jkr_sphere.toml", overrides={
         "grid.Nx": 32, "grid.Ny": 32, "adhesion.a0": 3.2e-5,
         "control.mean_pressure": [1e3, 0.0]}), progress=True)
@@ -575,8 +575,8 @@ def test_progress_on_a_stderr_that_is_no_terminal_is_plain_lines(capsys, monkeyp
     assert lines[-2].startswith("path: 2/2 step"), err
     # each state's front ends with its final line: the outcome and the balanced fraction
     assert lines[-1].startswith("front:") and "balanced 1.000" in lines[-1], err
-    monkeypatch.setattr(solving, "LOG_INTERVAL", 3600.0)
-    bar = solving.progress_bar(total=5, desc="sweep", unit="point")
+    monkeypatch.setattr(progress, "LOG_INTERVAL", 3600.0)
+    bar = progress.progress_bar(total=5, desc="sweep", unit="point")
     for _ in range(5):
         bar.update(1)
     bar.close()

@@ -183,7 +183,7 @@ def sweep(zeta, beta: float, Gamma: float, *, p_tilde=None, delta_tilde=None, a0
     guess = None
     it = order
     if progress:  # a bar on a terminal, plain lines elsewhere
-        from ..solving import progress_bar
+        from ..progress import progress_bar
 
         it = progress_bar(order, desc="zeta sweep")
     for i in it:

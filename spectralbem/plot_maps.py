@@ -17,7 +17,7 @@ import json
 import numpy as np
 
 from .bands import front_cells
-from .plotting import ROUND_OFF, _suptitle, plt  # pyplot with plotting's backend
+from .plot_style import ROUND_OFF, _suptitle, plt  # pyplot with the package's backend
 
 #: a surface with fewer distinct wavenumbers than this gets a line of text, not a spectrum
 SPECTRUM_MODES = 4

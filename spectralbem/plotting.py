@@ -15,15 +15,11 @@ points crossed out on curves.
 
 from __future__ import annotations
 
-import os
 import re
 
-import matplotlib
+import numpy as np
 
-if not os.environ.get("MPLBACKEND"):
-    matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from .plot_style import ROUND_OFF, VERIFIED, _banner, _suptitle, _verified, plt  # noqa: F401
 
 SEED_CURVES = ("a_tilde", "e_tilde", "G1_over_dgamma", "G2_over_dgamma", "mu_bar")
 PHYS_CURVES = ("area_fraction", "mu", "G1", "G2", "mu_adhesive", "penetration")
@@ -58,8 +54,6 @@ def plot_dataset(ds, path=None):
     return fig
 
 
-#: a friction coefficient below this is zero to round-off (an elastic or resting scene)
-ROUND_OFF = 1e-12
 
 
 def _zero_friction(da) -> bool:
@@ -93,33 +87,6 @@ def _control_symbol(ds) -> tuple[str, str]:
     cv = ds["control_value"]
     name = cv.attrs.get("long_name", "control").replace("prescribed ", "")
     return _bare(LABELS.get(name, name)), cv.attrs.get("units", "1")
-
-
-def _verified(status) -> bool:
-    return str(status) in VERIFIED
-
-
-def _banner(status) -> str:
-    """The warning line of a state whose values the solver did not verify."""
-    head = ("NOT CONVERGED" if str(status) == "not_converged"
-            else f"STATUS {str(status).upper().replace('_', ' ')}")
-    return f"{head} — values unverified"
-
-
-def _suptitle(fig, text: str, status, **kw) -> None:
-    """The figure's title; for a state not verified, a red banner above it and a red frame
-    round the figure so its values cannot pass for a result."""
-    if _verified(status):
-        fig.suptitle(text, **kw)
-        return
-    kw["fontsize"] = kw.get("fontsize", 10) + 2
-    fig.suptitle("\n".join(filter(None, (_banner(status), text))), color="C3",
-                 fontweight="bold", **kw)
-    fig.patch.set_edgecolor("C3")
-    fig.patch.set_linewidth(8)  # half of it inside the figure: a wider margin for it
-    engine = fig.get_layout_engine()
-    if engine is not None and hasattr(engine, "set"):
-        engine.set(w_pad=0.12, h_pad=0.12)
 
 
 def _curve_names(ds) -> list[str]:
@@ -189,8 +156,6 @@ def plot_sweep(ds):
     return _curves(ds, dim, label, f"sweep over {', '.join(keys)}")
 
 
-#: statuses of verified states; points of the others are crossed out in red
-VERIFIED = ("partial", "full_contact", "detached")
 NOT_VERIFIED = "not converged (unverified)"
 
 #: at most this many steps of a path get a contact map under its curves

@@ -213,3 +213,21 @@ def test_a_restarted_fused_gmres_holds_no_more_than_its_restart(monkeypatch):
     assert short.iterations > full.iterations  # it did restart
     assert np.linalg.norm(short.field - full.field) <= 1e-9 * np.linalg.norm(full.field)
     assert residual_on_mask(op, short, SURF, transpose=True) < 1e-10
+
+
+@pytest.mark.parametrize("contiguous", [True, False])
+def test_gemv_update_is_the_product_in_place(contiguous):
+    """masked._gemv_update(b, x, y, α): y += α bᵀx in place by one BLAS call, equal to numpy's
+    product up to the order of its sums (1e-14 relative here), also for a strided y, which
+    BLAS receives as a copy and which is written back."""
+    from spectralbem.masked import _gemv_update
+
+    rng = np.random.default_rng(3)
+    b, x = rng.normal(size=(4, 1000)), rng.normal(size=4)
+    base = rng.normal(size=2000)
+    y = base[::2] if not contiguous else base[:1000].copy()
+    expect = y - b.T @ x
+    _gemv_update(b, x, y, -1.0)
+    assert np.allclose(y, expect, rtol=1e-14, atol=1e-14 * np.abs(expect).max())
+    if not contiguous:  # the view writes through to its base
+        assert np.array_equal(base[::2], y)

@@ -370,6 +370,15 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
             break
         # pc = pc_cur − τ·tc; its negative cells are clipped; total = Σ max(pc, 0)
         pc, n_clip, total = loops.pk_step(pc_cur, tc, tau, clip_buf)
+        if n_clip == pc.size and not n_ov and not load and float(penetration) > 0:
+            # the step would clip every cell and empty the contact while the bodies overlap:
+            # a direction of small ⟨C t, t⟩ (a near-uniform pressure on a kernel that holds
+            # uniform loads weakly: an incompressible glued layer, Ĉ(0) = 0, under
+            # penetration control) overshoots.  Shorten it to where half of the cells that t
+            # unloads reach zero, and restart the directions (:func:`_emptying_step`)
+            tau = _emptying_step(pc_cur, tc)
+            pc, n_clip, total = loops.pk_step(pc_cur, tc, tau, clip_buf)
+            G_old = 0.0
         ov = ov_buf[:n_ov]  # the joining cells (sorted)
         if restart_on_join and n_ov:
             G_old = 0.0  # PK (1999): the next direction is the gradient
@@ -423,6 +432,13 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
     p = p.reshape(shape)
     return Solution(p, u.reshape(shape).copy(), delta, p > 0, it, converged, message,
                     fft_pairs=pairs)
+
+
+def _emptying_step(pc: np.ndarray, tc: np.ndarray) -> float:
+    """A step along ``tc`` that unloads the cells of pressure ``pc`` partly: the median, over
+    the cells that ``tc`` unloads, of the step that brings each to zero (half of them clip)."""
+    down = tc > 0
+    return float(np.median(pc[down] / tc[down])) if down.any() else 0.0
 
 
 def untouched(cell, penetration) -> Solution:

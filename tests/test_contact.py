@@ -369,3 +369,24 @@ def test_pk_partial_contact_above_the_check_fraction():
     assert np.linalg.norm(a.pressure - b.pressure) <= 1e-8 * np.linalg.norm(a.pressure)
     # a transform per iteration more: the incremental update was used
     assert b.fft_pairs > a.fft_pairs
+
+
+@pytest.mark.parametrize("delta", [2e-3, 2.5e-3])
+def test_penetration_control_on_an_incompressible_glued_layer(delta):
+    """A sphere on a glued layer of ν = 0.5 (Ĉ(0) = 0: a uniform pressure moves the surface
+    only at the contact's edge), d = L/8, under penetration control: at these Δ Polonsky–Keer
+    stopped at its third iteration, "the contact set emptied while the bodies overlap" — a
+    step along a near-uniform pressure, of small ⟨C t, t⟩, clipped every cell (found by an
+    audit against an axisymmetric Fredholm solution of the layer).  Such a step is now
+    shortened: the solve converges, and load control at the load it finds gives its Δ back
+    (to 1e-7, the solves' tolerance) and the same contact set."""
+    cell = Cell(1.0, 1.0, 128, 128)
+    h = paraboloid(cell, 1.0)
+    op = SpectralOperator(cell, Elastic(1.0, 0.5), GluedLayer(0.125))
+    pen = polonsky_keer(op, h, penetration=delta)
+    assert pen.converged, pen.message
+    back = polonsky_keer(op, h, mean_pressure=float(pen.pressure.mean()))
+    assert back.converged
+    assert back.penetration == pytest.approx(delta, rel=1e-7)
+    np.testing.assert_array_equal(back.contact, pen.contact)
+    assert np.abs(back.pressure - pen.pressure).max() <= 1e-5 * pen.pressure.max()

@@ -125,10 +125,18 @@ def layer_weights(b, a0: float, upper: np.ndarray, normal, sigma: float):
     return tuple(out)
 
 
+def _slots(cells: np.ndarray, idx: np.ndarray) -> tuple:
+    """(slot, found): the position in the sorted flat cells ``cells`` of each of ``idx``, and
+    whether it is listed there (slot is a valid index, 0, where it is not)."""
+    if not cells.size:
+        return np.zeros(idx.size, np.intp), np.zeros(idx.size, bool)
+    slot = np.minimum(np.searchsorted(cells, idx), cells.size - 1)
+    return slot, cells[slot] == idx
+
+
 def _owner_counts(owners: np.ndarray, fidx: np.ndarray) -> np.ndarray:
     """How many of ``owners`` (flat cells) fall on each of the sorted cells ``fidx``."""
-    slot = np.minimum(np.searchsorted(fidx, owners), max(fidx.size - 1, 0))
-    keep = fidx[slot] == owners if fidx.size else np.zeros(owners.size, bool)
+    slot, keep = _slots(fidx, owners)
     return np.bincount(slot[keep], minlength=fidx.size)
 
 
@@ -221,8 +229,8 @@ def _at(values, idx) -> np.ndarray:
     if not isinstance(values, tuple):
         return values.ravel()[idx].astype(float)
     cells, v = values
-    slot = np.minimum(np.searchsorted(cells, idx), max(cells.size - 1, 0))
-    return np.where(cells[slot] == idx, v[slot], 0.0) if cells.size else np.zeros(idx.size)
+    slot, found = _slots(cells, idx)
+    return np.where(found, v[slot], 0.0) if cells.size else np.zeros(idx.size)
 
 
 def _smooth_on_front_graph(F, front, sigma, weights, normal, out=None) -> np.ndarray:
@@ -240,9 +248,7 @@ def _smooth_on_front_graph(F, front, sigma, weights, normal, out=None) -> np.nda
     fidx = np.flatnonzero(front)
     idx = fidx[np.isfinite(F.ravel()[fidx])]
     if isinstance(sigma, dict):  # the packed groups: no N² array of σ
-        cells = sigma["cells"]
-        slot = np.minimum(np.searchsorted(cells, idx), max(cells.size - 1, 0))
-        has = cells[slot] == idx if cells.size else np.zeros(idx.size, bool)
+        slot, has = _slots(sigma["cells"], idx)
         idx, sig = idx[has], np.asarray(sigma["sigma"], float)[slot[has]]
     else:
         sig = np.full(idx.size, float(sigma))

@@ -58,7 +58,8 @@ def reference_markdown() -> str:
 #: → Dataset → files and figures), then the references
 API_MODULES = ("spectralbem", "spectralbem.scenes", "spectralbem.surfaces",
                "spectralbem.materials", "spectralbem.layers", "spectralbem.spectral",
-               "spectralbem.contact", "spectralbem.adhesive", "spectralbem.state",
+               "spectralbem.contact", "spectralbem.friction", "spectralbem.adhesive",
+               "spectralbem.state",
                "spectralbem.front", "spectralbem.along_front",
                "spectralbem.sinusoid1d", "spectralbem.sweep", "spectralbem.refinement",
                "spectralbem.io",

@@ -26,10 +26,10 @@ from __future__ import annotations
 import numpy as np
 
 from . import coarse
-from .contact import sliding_direction
 from .conventions import control, shown
 from .criterion import SMOOTHING_PER_RADIUS
 from .fft import with_fft_threads_only
+from .friction import sliding_direction
 from .front_iteration import FrontIteration
 from .keys import (
     BAND_TOL_MAX,

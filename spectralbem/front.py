@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .contact import sliding_direction
+from .friction import sliding_direction
 
 __all__ = ["front_outputs", "sub_cell_area", "release_rates", "patch_labels",
            "small_patch_diameter"]

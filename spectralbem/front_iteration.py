@@ -10,13 +10,14 @@ import numpy as np
 
 from .adjoint import complete_adjoint
 from .band_starts import BandStarts
-from .contact import friction, full_contact
+from .contact import full_contact
 from .criterion import (
     front_cells,
     front_tests,
     loose_band_rtol,
     predictor_tests,
 )
+from .friction import friction
 from .front import (
     at_front,
     balance_residual,

@@ -35,7 +35,7 @@ def friction_observables(op, heights) -> dict:
     (``observables`` of adhesive.solve_adhesive, :mod:`spectralbem.observables`): the unit
     field (``load``, the scalar 1) and the rigid profile's slopes −v̂·∇h (``force``) and
     −v̂⊥·∇h (``lateral``), v̂⊥ = ẑ × v̂, formed when a sum needs them."""
-    from .contact import sliding_direction
+    from .friction import sliding_direction
 
     vhat = sliding_direction(op)
     vperp = (-vhat[1], vhat[0])

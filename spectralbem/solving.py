@@ -16,8 +16,8 @@ import math
 import numpy as np
 
 from . import __version__
-from .contact import sliding_direction
 from .conventions import shown
+from .friction import sliding_direction
 from .io import FIELDS, SCALARS, cf_attributes
 from .io import attrs as _attrs
 from .keys import DELAYED_DEFAULT, FRONT_TOL
@@ -40,7 +40,7 @@ from .spectral import SpectralOperator
 REPORTED = ("partial", "full_contact", "detached")
 
 
-#: the friction coefficients a state carries (contact.friction)
+#: the friction coefficients a state carries (friction.friction)
 FRICTION = ("mu", "mu_lateral", "mu_profile", "mu_dissipation")
 
 
@@ -48,7 +48,7 @@ def _friction(op, h, p, u, state) -> dict:
     """The friction coefficients of (p, u): the solver's (``state``'s) when they are its
     fields, with :func:`quotient`'s convention where the net normal force vanishes (a
     detached state, an adhesive contact at zero load): never nan."""
-    from .contact import friction
+    from .friction import friction
 
     fr = ({k: getattr(state, k) for k in FRICTION} if p is state.pressure
           else friction(op, h, p, u))

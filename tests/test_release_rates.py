@@ -2,8 +2,8 @@
 
 import numpy as np
 
-from spectralbem.contact import sliding_direction
 from spectralbem.criterion import front_tests
+from spectralbem.friction import sliding_direction
 from spectralbem.front import release_rates
 from spectralbem.front_iteration import FrontIteration
 from spectralbem.materials import StandardLinearSolid

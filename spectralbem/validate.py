@@ -270,6 +270,35 @@ def _table(rows) -> list:
     return lines
 
 
+#: the finite-thickness layer references of tests/test_layer_references.py (run by
+#: `make test`, not by this command), stated in the report with their measured errors
+LAYER_CHECKS = """
+## Finite-thickness layers
+
+Checked by `make test` (`tests/test_layer_references.py`; the numbers below are those tests'
+measurements, not this command's): each reference is computed in its test without
+`spectralbem.layers`; measured error (the asserted tolerance in brackets).
+
+- **Eqs. (A.3)-(A.5)**: the plane-strain layer equations in (u_x, u_z, σ_xz, σ_zz) integrated
+  by a matrix exponential, far face glued or free; all modes of 32 × 16, |q|d 0.06-14,
+  ν = 0, 0.3, 0.5, elastic or SLS (complex modulus): 2.3e-13 (1e-10).
+  `test_elastic_kernel_is_the_plane_strain_layer`,
+  `test_viscoelastic_sampled_kernel_is_the_layer_with_complex_modulus`.
+- **Sphere on a glued layer**: Abel reduction to a Fredholm equation with kernel ∫(S − 1)cos;
+  256², radius 16 cells, d/a = 2, 1, 0.5, ν = 0.5, 0.3: Δ 2.9e-4 (1e-3), load 5.5e-4 (1.5e-3).
+  `test_sphere_on_glued_layer_against_axisymmetric_fredholm`.
+- **Thin glued layers**, 128²: incompressible squeeze, P = 2πER²Δ³/(3d³), d/a = 0.0125: 3.8e-3
+  (1e-2; 3.3e-3 is the asymptote's own (d/a)² term); Winkler bed P = πMRΔ²/d, ν = 0.3,
+  d/a = 0.025: 4e-4 (2e-3). `test_thin_glued_layer_asymptotics`.
+- **(A.5) is a plate on back pressure p̄**: periodic cylinder, 1024 cells: p = p̄ in contact,
+  2e-4 (1e-3); free span b³ = 3DL/(2Rp̄) (beam), extrapolated in d: 0.5 cells (1.5).
+  `test_pressure_layer_is_a_plate_on_back_pressure`.
+- **Sliding full contact**, μ = kΛ²|Im(1/Ĉ(k))|/(2p̄), both kinds: sampled kernel 1e-12 (1e-9);
+  cell-averaged 4e-5 at 256 cells, second order.
+  `test_full_contact_friction_on_viscoelastic_layers`.
+"""
+
+
 def write_report(rows, oblique, jkr=(), rough=None, fractional=(), out: Path = Path("."),
                  command: str = "python -m spectralbem.validate", quick: bool = False):
     """Write ``out``/validation.md and ``out``/figures/validation_sinusoid.png; ``command``:
@@ -401,7 +430,7 @@ Hysteresis: at {rough['p'][0]:g} Pa the contact covers {rough['area'][0]:.4f} of
 loading and {rough['area'][2]:.4f} on unloading ({100 * (rough['area'][2] / rough['area'][0]
                                                       - 1):+.0f} %).
 """
-    (out / "validation.md").write_text(text)
+    (out / "validation.md").write_text(text + LAYER_CHECKS)
     return within(rows) and within(fractional)
 
 

@@ -30,12 +30,12 @@ from .moves import (
     OSCILLATION_FLIPS,
     PIN_RELEASES,
     RELEASE_SLACK,
+    LoadCorrection,
     Oscillation,
     blocked,
     crack_tips,
     held_offsets,
     moves,
-    next_correction,
     offsets,
     overloaded_pins,
     predictor_moves,
@@ -111,7 +111,8 @@ class FrontIteration:
         self.p = np.zeros(cell.shape)
         self.u = None
         self.corr = 0.0  # load control: the front's mean pressure minus the mask's
-        self.corr_prev = None  # (mask key, corr, new_corr) of the last balanced state (secant)
+        self.load_steps = LoadCorrection()  # the corrections of each balanced mask
+        self.escaped = False  # the mask moved once off a jump of the front's load
         self.osc = Oscillation(cell.shape)
         self.wide = None  # the oscillating cells of a rescued front (moved only if unbalanced)
         self.opened = np.zeros(cell.shape, bool)  # cells the criterion opened in this solve
@@ -396,7 +397,7 @@ class FrontIteration:
                             "balance cannot be verified")
             return _BREAK
         if rmax <= front_tol or not moving:
-            return self._correct_load(new_corr)
+            return self._correct_load(new_corr, add, remove)
         reason = self.osc.step(mask, add | remove)
         if reason and self.wide is None and self.it < self.max_outer:
             # rescue, once: the cells that oscillate move from now on only when their front
@@ -441,18 +442,39 @@ class FrontIteration:
                             f"carries {float(self.p.mean()) + new_corr:.6g} Pa of mean "
                             "pressure")
 
-    def _correct_load(self, new_corr) -> str:
+    def _correct_load(self, new_corr, add, remove) -> str:
         """Balanced on this mask: the front's load correction moves Δ (updated only here,
         never with the mask moving: a correction that lags a moving mask makes the edges
-        cycle); a new Δ makes new states."""
+        cycle); a new Δ makes new states.  Where the front's load jumps across the
+        prescribed one on this mask (:class:`~spectralbem.moves.LoadCorrection`), the mask
+        moves once to the nearest cell centres of the balanced edge (``add``, ``remove``:
+        the moves without the acceptance band), and a second jump ends the solve."""
         if self.it == self.max_outer:
             self.message = f"not converged in {self.max_outer} outer iterations (load)"
             return _BREAK
-        key = hash(self.mask.tobytes())
-        prev = self.corr_prev
-        c0 = prev[1:] if prev is not None and prev[0] == key else None
-        self.corr_prev = (key, self.corr, new_corr)
-        self.corr = next_correction(self.corr, new_corr, c0)
+        # a bracket of the loose tests' loads is not one of the exact tests' (they differ by
+        # the loose tolerance): the exact retest starts afresh
+        nxt = self.load_steps.next((hash(self.mask.tobytes()), self.loose), self.corr,
+                                   new_corr, LOAD_TOL * float(np.abs(self.p).mean()))
+        if nxt is None and not self.escaped and (add.any() or remove.any()):
+            self.escaped = True
+            self.mask = (self.mask | add) & ~remove
+            self.last_change = add | remove
+            self.opened |= remove
+            self.tests = self.res_out = None
+            return _NEXT
+        if nxt is None:
+            steps = self.load_steps
+            (ca, _), (cb, _) = steps.ends[1], steps.ends[-1]
+            pbar = self.mean_pressure
+            self.message = (
+                f"load control: the sub-cell front's mean pressure jumps across the "
+                f"prescribed {pbar:.6g} Pa on this mask ({pbar + steps.missed[1]:.6g} and "
+                f"{pbar + steps.missed[-1]:.6g} Pa at load corrections {abs(ca - cb):.2g} Pa "
+                f"apart; typically a front cell's hold by non-penetration changes with Δ); a "
+                f"smaller solver.front_tol or a finer grid moves the mask instead")
+            return _BREAK
+        self.corr = nxt
         self.osc.seen.clear()
         self.tests = self.res_out = None  # freed before the next state's solves
         return _NEXT

@@ -25,6 +25,7 @@ from .front import (
     resolved_front,
     unresolved_patches,
 )
+from .keys import LOAD_TOL
 from .masked import TRUE_RESIDUAL_MARGIN, solve_masked, solve_packed
 from .moves import (
     OSCILLATION_FLIPS,
@@ -52,10 +53,6 @@ from .state import AdhesiveState
 #: spanning many decades: a 1 µm layer under pressure, Eq. (A.5), whose Ĉ spans 4e7, read
 #: 6e-7 after 14 products and 1e-10 after one restart of 10)
 REFINEMENTS = 3
-
-#: load control: the sub-cell front carries the prescribed mean pressure within this
-#: fraction of the mean |p| (the mask state carries it minus the front's correction)
-LOAD_TOL = 1e-6
 
 __all__ = ["FrontIteration", "LOAD_TOL"]
 

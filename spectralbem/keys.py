@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 __all__ = ["Key", "key", "REQUIRED", "LENGTH", "HEIGHT", "MODULUS", "TIME", "STIFFENING",
            "TOL_MIN", "FRONT_TOL", "front_tol_max", "BAND_TOL_MAX", "DELAYED",
-           "DELAYED_DEFAULT"]
+           "DELAYED_DEFAULT", "LOAD_TOL"]
 
 class _Required:
     """The default of a required key (a sentinel with a stable name)."""
@@ -82,6 +82,11 @@ TOL_MIN = 1e-14
 #: :func:`front_tol_max`, converge faster where a0 spans many cells and cost accuracy in G
 #: (docs/theory.md, the 2D criterion, "Convergence")
 FRONT_TOL = 0.5
+
+#: load control of a 2D adhesive solve: the sub-cell front carries the prescribed mean
+#: pressure within this fraction of the mean |p| (the mask state carries it minus the
+#: front's correction); a carried load within it of zero is no net normal force
+LOAD_TOL = 1e-6
 
 #: the loosest ``solver.band_tol`` (the band tests' tolerance while the front moves): at 1e-4
 #: the rough elastic loading state at 256² reached another balanced state (area +1.4 %, 79

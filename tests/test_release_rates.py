@@ -1,6 +1,7 @@
 """The release rates along a curved viscoelastic front converge on a fixed geometry."""
 
 import numpy as np
+import pytest
 
 from spectralbem.criterion import front_tests
 from spectralbem.friction import sliding_direction
@@ -68,3 +69,31 @@ def test_trailing_release_rate_where_it_changes_sign():
     assert abs(g2d - g1d) < 0.005
     assert abs(rel) == abs(g2d - g1d)  # the scale is Δγ where |G1| < Δγ
     assert abs(r["G2_over_dgamma"][2]) < 0.02
+
+
+def test_adhesive_friction_is_over_the_load_the_front_carries():
+    """μ_a = −Σ (G − Δγ)(n·v̂) ds / W with W the normal force of the balanced sub-cell front
+    (the dataset's mean pressure, the prescribed one under load control), as μ's: not the
+    mask's, which carries the prescribed load minus the front's load correction (here the
+    sliding sphere at 128², load control; on the rough SLS case the two differ by 1-2 %, and
+    μ_a with the mask's load was 1.1 % low at 256²).  Doubling the front's load halves μ_a;
+    the mask's own load does not enter."""
+    import dataclasses
+
+    from spectralbem.adhesive import solve_adhesive
+    from spectralbem.front import front_outputs
+
+    n = 128
+    cell = Cell(1.0, 1.0, n, n)
+    op = SpectralOperator(cell, StandardLinearSolid(1.0, 10.0, 1.0, 0.0),
+                          velocity=(0.1 * A_J, 0.0))
+    h = paraboloid(cell, 1.0)
+    r = solve_adhesive(op, h, DGAMMA, 2 * cell.hx, mean_pressure=2e-4)
+    assert r.status == "partial", r.message
+    assert r.mean_pressure == pytest.approx(2e-4, rel=1e-5)
+    assert abs(float(r.pressure.mean()) / r.mean_pressure - 1) > 1e-4  # a load correction
+    mu_a = front_outputs(op, r, DGAMMA)["mu_adhesive"]
+    assert abs(mu_a) > 0
+    twice = dataclasses.replace(r, mean_pressure=2 * r.mean_pressure)
+    assert front_outputs(op, twice, DGAMMA)["mu_adhesive"] == pytest.approx(mu_a / 2,
+                                                                           rel=1e-12)

@@ -57,7 +57,8 @@ SCALARS = {
     "balanced_fraction": ("1", "balanced fraction",
                           "fraction of the resolved front balanced within front_tol"),
     "front_residual": ("1", "front residual (cells)",
-                       "largest balance residual of the front in position"),
+                       "largest balance residual of the front in position; inf where a "
+                       "resolved front cell has no balanced edge in its band (not converged)"),
     "front_length": ("m", "front length", "of the balanced front of the resolved patches"),
     "crack_tip_length": ("m", "crack-tip length",
                          "the part of front_length that is a crack tip (the rest is held by "

@@ -15,17 +15,21 @@ import numpy as np
 
 from .io import FIELDS, SCALARS, STATUS
 from .io import attrs as _attrs
+from .keys import LOAD_TOL
 from .observables import ProfileSlope, field_of
 
 __all__ = ["grid_dataset", "seed_dataset", "seed_front_outputs", "edges_y_invariant",
            "quotient", "friction_observables", "front_friction", "profile_friction"]
 
 
-def quotient(num: float, den: float, num_scale: float = 0.0, den_scale: float = 0.0) -> float:
+def quotient(num: float, den: float, num_scale: float = 0.0, den_scale: float = 0.0,
+             den_tol: float = 1e-9) -> float:
     """num/den with the 1D method's convention at no load (oned.branches._quotient): 0/0 = 0 (no
     force at no load), ±inf for a finite numerator over 0.  A value within 1e-9 of its scale
-    (the sum of the magnitudes it came from) counts as 0: round-off of a vanishing sum."""
-    if abs(den) > 1e-9 * den_scale and den != 0.0:
+    (the sum of the magnitudes it came from) counts as 0: round-off of a vanishing sum; the
+    denominator within ``den_tol`` of its scale (a load known to a tolerance: keys.LOAD_TOL
+    for the load an adhesive front carries)."""
+    if abs(den) > den_tol * den_scale and den != 0.0:
         return num / den
     return 0.0 if abs(num) <= 1e-9 * num_scale else math.copysign(math.inf, num)
 
@@ -55,7 +59,9 @@ def front_friction(r, obs: dict) -> dict:
     p = r.pressure
     sums, scale = _sums(p, obs)
     at_front = front.at_front(r.tests, r.offset_out, sums, r.a0)
-    return _friction_quotients(at_front, scale)
+    # the front carries its load to LOAD_TOL: a smaller one is no net normal force (the rough
+    # path at 0 Pa read μ = +inf, −inf or 6e5 by the sign and size of a 1e-9-1e-6 Pa residual)
+    return _friction_quotients(at_front, scale, LOAD_TOL)
 
 
 def profile_friction(p, obs: dict) -> dict:
@@ -72,8 +78,8 @@ def _sums(p, obs):
     return sums, scale
 
 
-def _friction_quotients(sums, scale) -> dict:
-    return {k: quotient(sums[k], sums["load"], scale[k], scale["load"])
+def _friction_quotients(sums, scale, den_tol: float = 1e-9) -> dict:
+    return {k: quotient(sums[k], sums["load"], scale[k], scale["load"], den_tol)
             for k in ("force", "lateral")}
 
 

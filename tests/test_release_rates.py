@@ -97,3 +97,23 @@ def test_adhesive_friction_is_over_the_load_the_front_carries():
     twice = dataclasses.replace(r, mean_pressure=2 * r.mean_pressure)
     assert front_outputs(op, twice, DGAMMA)["mu_adhesive"] == pytest.approx(mu_a / 2,
                                                                            rel=1e-12)
+
+
+def test_friction_at_a_load_within_its_tolerance_of_zero():
+    """Friction coefficients are force / W with the 1D method's convention at W = 0 (±inf
+    where a force remains, 0 where none does).  W of an adhesive front is known to
+    keys.LOAD_TOL of its scale: a smaller W is no net force.  The rough path of
+    cases/rough_load_unload.toml at 0 Pa (128², seeds 1-3) read μ = +inf, −inf and 6.2e5 by
+    the sign and size of a 1e-9-1e-6 Pa residual; with the front's tolerance they read
+    +inf, +inf, +inf."""
+    from spectralbem.keys import LOAD_TOL
+    from spectralbem.results import _friction_quotients, quotient
+
+    assert quotient(2.0, 4.0, 2.0, 4.0) == 0.5
+    assert quotient(1.0, 1e-8, 1.0, 1.0) == pytest.approx(1e8)  # 1e-8 of its scale: a load
+    assert quotient(1.0, 1e-8, 1.0, 1.0, den_tol=LOAD_TOL) == np.inf
+    assert quotient(-1.0, -1e-8, 1.0, 1.0, den_tol=LOAD_TOL) == -np.inf
+    assert quotient(1e-12, 1e-8, 1.0, 1.0, den_tol=LOAD_TOL) == 0.0
+    sums = {"force": 3.0, "lateral": 0.0, "load": 5e-7}
+    scale = {"force": 3.0, "lateral": 1.0, "load": 1.0}
+    assert _friction_quotients(sums, scale, LOAD_TOL) == {"force": np.inf, "lateral": 0.0}

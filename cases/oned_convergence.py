@@ -18,8 +18,8 @@ KEYS = ("a_tilde", "e_tilde", "G1_over_dgamma", "G2_over_dgamma", "mu_bar",
 
 
 def main():
-    print("| ζ | M, Q (default) | ã | ẽ | G1/Δγ | G2/Δγ | μ̄ | max rel. change to "
-          "(1.5M, 1.5Q), (2M, 2Q) | s per point |")
+    print("| ζ | M, Q (default) | ã | ẽ | G1/Δγ | G2/Δγ | μ̄ | max rel. difference from "
+          "(2M, 2Q): of (M, Q), of (1.5M, 1.5Q) | s per point |")
     print("|---|---|---|---|---|---|---|---|---|")
     for zeta in (1e-3, 2e-3, 3e-3, 5e-3, 1e-2, 0.1, 1.0, 10.0, 100.0):
         pr = s1.dimensionless_problem(zeta, 10.0, 0.008, 0.01)

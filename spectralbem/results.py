@@ -163,6 +163,11 @@ def seed_front_outputs(op, r, dgamma, obs: dict) -> tuple:
         # (x_b − a0) in the seed's definition, at its midpoint when the edge is the
         # sharp-crack one (shift a0/2, elastic scenes)
         G.append(Go + (Gc - Go) * (a0e + s - r.edge_shift) / a0e)
+    if not op.viscoelastic:
+        # δL_P ≡ 0: the balanced edge releases Δγ exactly (front.front_outputs), where the
+        # band means interpolated linearly to the sharp-crack edge miss it by O(a0²)
+        # (G1/Δγ = 1.049 at a0 = 16 cells of 1024 per wavelength)
+        G = [float(np.mean(dgamma))] * len(G)
     # integrated quantities at the sub-cell front (first order in offset/a0)
     out = {f"mu_bar_{k}_front": v for k, v in front_friction(r, obs).items()}
     if r.crack_tips is not None and not r.crack_tips.any():

@@ -168,8 +168,11 @@ def _solve_seed_grid(scene: Scene, mask0=None, progress=None):
                delta_tilde=float(delta), mu_bar=mu, mu_bar_mask=fr["mu_profile"],
                mu_bar_dissipation=fr["mu_dissipation"], mu_bar_lateral=mu_lat)
     G1, G2 = out["G1_over_dgamma"], out["G2_over_dgamma"]
+    # the edges (along y) sweep the surface at |v̂·x̂| v: the adhesive force along v is that
+    # fraction of (G1 − G2) Δγ per edge, as μ̄ is along v (oblique sliding)
+    sweep = abs(float(sliding_direction(op)[0]))
     out["mu_bar_adhesive"] = 0.0 if G1 == G2 == 0.0 else quotient(
-        (G1 - G2) * scene.dgamma, cell.Lx * pm, (abs(G1) + abs(G2)) * scene.dgamma,
+        sweep * (G1 - G2) * scene.dgamma, cell.Lx * pm, (abs(G1) + abs(G2)) * scene.dgamma,
         cell.Lx * float(np.abs(p).mean()))
     status, info["message"] = _undefined(status, info["message"], out)
     if status == "partial" and not out["a_tilde"] > 0:

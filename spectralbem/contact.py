@@ -182,6 +182,10 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         raise ContactError(f"restart = {restart!r} must be 'descent' or 'join'")
     restart_on_join = restart == "join"
     h = np.ascontiguousarray(_check_controls(heights, op, mean_pressure, penetration))
+    if mean_pressure is None and float(penetration) <= 0:
+        # max w = Δ ≤ 0: p = 0 satisfies g ≥ 0 (at Δ = 0 the summit touches with no force;
+        # the iteration's error Σ p|g| / Σ p was 0/0 there: a crash or a round-off status)
+        return untouched(op.cell, penetration)
     shape = op.cell.shape
     n = h.size
     hmax = float(h.max())
@@ -292,7 +296,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
         gbar, e_sum, p_sum, G, g_t, t_mean, n_ov, overlap_min = loops.gap_state(
             u, idx, wc, pc_cur, tc, load, gc, w_out, ov_buf)
         # convergence test on the current state: complementarity and no overlap
-        err = e_sum / (p_sum * hrange)
+        err = e_sum / (p_sum * hrange) if p_sum > 0 else math.inf  # no pressure left
         if progress is not None and it % PROGRESS_EVERY == 0:
             progress(it, f"error {err:.1e}")
         if not math.isfinite(err):
@@ -365,7 +369,7 @@ def polonsky_keer(op: SpectralOperator, heights, *, mean_pressure=None, penetrat
                 rin.put(ov, vals[n_clip:])
                 forwards += 1
                 D = pl.forward_buffer()
-        scale = target * n / total if load else 1.0
+        scale = (target * n / total if total > 0 else math.nan) if load else 1.0
         if not (math.isfinite(scale) and scale > 0):
             message = f"pressure collapsed at iteration {it}: the load cannot be carried"
             break

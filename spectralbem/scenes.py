@@ -381,8 +381,9 @@ def _build_seed(spec: dict) -> Scene:
     d0 = steps[0] if name == "penetration" else None
     params = dict(zeta=s["zeta"], beta=s["beta"], Gamma=s["Gamma"], a0_tilde=s["a0_tilde"],
                   cells_per_wavelength=n, ny=ny, direction_deg=s["direction_deg"])
-    if name == "penetration" and model == "grid2d":
-        _check_penetration(HalfSpace(), mat.nu, sinusoid(cell, 1.0), steps)
+    if name == "penetration":  # the 1D method's bound too (Δ̃ < 1), named by its key
+        _check_penetration(HalfSpace(), mat.nu, sinusoid(cell, 1.0), steps,
+                           "sinusoid.delta_tilde")
     extra = {"solver": dict(spec["solver"])} if "solver" in spec else {}
     return Scene(cell, mat, sinusoid(cell, 1.0), (v * np.cos(phi), v * np.sin(phi)),
                  np.pi * s["Gamma"], s["a0_tilde"], p0, d0, "sinusoid", params, None, model,
@@ -399,13 +400,13 @@ def _build(section: str, spec: dict, cell: Cell, base: Path, problems: list):
         return None
 
 
-def _check_penetration(layer, nu, h, values):
+def _check_penetration(layer, nu, h, values, key: str = "control.penetration"):
     """Penetrations the slab cannot take (mean u = 0: Δ < max h − mean h), refused while the
-    scene is built, before any solve of a path."""
+    scene is built, before any solve of a path; ``key``: the scene key that set them."""
     try:
         check_penetration(layer, nu, h, values)
     except ContactError as exc:
-        raise SceneError([f"control.{exc}"]) from exc
+        raise SceneError([key + str(exc).removeprefix("penetration")]) from exc
 
 
 def _one_d_obstacles(spec: dict, material) -> list:
@@ -566,7 +567,7 @@ def _build_physical(spec: dict, base: Path) -> Scene:
             model = "grid2d"
             _check_memory("grid.Nx × grid.Ny", cell.shape, model=model, **memory)
             scene = dataclasses.replace(scene, model=model)
-    if name == "penetration" and model == "grid2d":
+    if name == "penetration":  # either model: named by its key before any solve
         _check_penetration(layer, mat.nu, h, values)
     return scene
 

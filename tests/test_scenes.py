@@ -582,3 +582,25 @@ def test_progress_on_a_stderr_that_is_no_terminal_is_plain_lines(capsys, monkeyp
     bar.close()
     assert capsys.readouterr().err.splitlines() == ["sweep: 1/5 point (0 s)",
                                                     "sweep: 5/5 point (0 s)"]
+
+
+@pytest.mark.parametrize("scene, words", [
+    ({"grid": {"Lx": 1e-3, "Ly": 1e-5, "Nx": 100, "Ny": 1},
+      "surface": {"kind": "sinusoid", "amplitude": 2e-6},
+      "material": {"kind": "elastic", "E": 2e6}, "control": {"penetration": 2e-6}},
+     ["control.penetration = 2e-06", "admits no equilibrium", "allowed (-inf, 2e-06)"]),
+    ({"scene": {"name": "s", "model": "sinusoid1d"},
+      "sinusoid": {"zeta": 0.1, "beta": 10, "Gamma": 0.008, "delta_tilde": 1.0,
+                   "a0_tilde": 0.01}},
+     ["sinusoid.delta_tilde = 1", "admits no equilibrium", "allowed (-inf, 1"])])
+def test_a_penetration_beyond_full_contact_is_named_by_its_key_for_the_1d_method(scene,
+                                                                                words):
+    """A y-invariant scene that the 1D method solves ('auto' picks it) refused Δ at the
+    full-contact bound in the seed's units ("delta_tilde = 1.0 is outside the allowed
+    range", for a physical control.penetration of 2 µm); the bound is checked while the
+    scene is built, for either model, and names the scene's own key."""
+    from spectralbem.scenes import load_scene
+
+    with pytest.raises(SceneError) as err:
+        load_scene(scene)
+    assert all(w in str(err.value) for w in words), str(err.value)

@@ -317,3 +317,41 @@ def test_reported_status_is_verified(zeta, beta, Gamma, p_tilde):
         assert p_tilde <= 0 and sc["a_tilde"] == 0 and np.all(ds.sigma_tilde.values == 0)
     elif status == "unstable":
         assert sc["branch_slope"] <= 0
+
+
+def test_strong_adhesion_branch_starts_above_its_snap_in():
+    """Γ = 0.1 (elastic E0): the branch falls from p̃ ≈ −0.06 at the smallest traced contact
+    (ã = 0.01-0.02) to the pull-off and rises to the snap-in maximum −0.0809, below that
+    start; the branch's global maximum was taken for the snap-in, so p̃ = −0.07 and −0.05
+    were `detached` / `not_converged` with a spurious pull-off (−0.059 at ã = 0.017) and
+    `special_points` put the pull-off at the grid's end (−1.38 at ã = 3).  Against Johnson's
+    closed form (reference.johnson_special_points): the pull-off and snap-in loads to 1e-10
+    (measured ≤ 1e-12), their positions to 1e-5 (measured 1.5e-7 and 1.6e-6: a flat
+    extremum places its position by the square root of the load's accuracy), p̃ above the
+    maximum full contact, below the pull-off detached with the pull-off's Δ̃ to 5e-5
+    (measured 5.5e-6)."""
+    J = ref.johnson_special_points(0.1)
+    for p, status in ((-0.07, "full_contact"), (-0.05, "full_contact"),
+                      (-0.1, "partial"), (-0.27, "detached")):
+        ds = s1.solve(0.0, 10, 0.1, p_tilde=p, a0_tilde=0.0, adhesiveless_reference=False)
+        assert ds.status.item() == status, (p, ds.attrs["solver_message"])
+        if status == "detached":
+            assert ds.delta_tilde.item() == pytest.approx(
+                ref.johnson_delta(J["a_pmin"], J["p_min"]), abs=5e-5)
+    sp = s1.special_points(0.0, 10, 0.1, a0_tilde=0.0, n=16, cheb=8)
+    for k, tol in (("p_min", 1e-10), ("p_max", 1e-10), ("a_pmin", 1e-5), ("a_pmax", 1e-5)):
+        assert sp[k] == pytest.approx(J[k], abs=tol), k
+
+
+def test_special_points_name_what_they_cannot_verify():
+    """Where no branch is found `special_points` names its inputs (it raised numpy's
+    "argmax of an empty sequence"); an extremum at an end of the part of the branch the trace
+    found (ζ = 0.01, β = 10, Γ = 0.03 at 16 points: found at ã = 0.86, 1.21, 1.57, p̃ still
+    falling at the last) is nan, not the end point (p_min = −0.527 at ã = 1.571 and
+    a_dmin = 0.857 were reported)."""
+    with pytest.raises(ValueError, match=r"no equilibrium branch.*zeta = 0.1.*Gamma = 0.1"):
+        s1.special_points(0.1, 10, 0.1, a0_tilde=0.01)
+    sp = s1.special_points(0.01, 10, 0.03, a0_tilde=0.0, n=16, cheb=8)
+    assert sp["branch"]["a_tilde"].size == 3
+    for k in ("p_min", "a_pmin", "delta_min", "a_dmin", "p_max", "T"):
+        assert np.isnan(sp[k]), k

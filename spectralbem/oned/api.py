@@ -10,6 +10,7 @@ from .branches import (
     NXI,
     _Branch,
     _quotient,
+    _rise_start,
     _summary,
     _verdict,
     dimensionless_problem,
@@ -210,7 +211,10 @@ def special_points(zeta: float, beta: float, Gamma: float, *, a0_tilde: float,
     Traces the branch in ã (grid refined toward small ã), refines each extremum by a bounded
     scalar minimisation, and evaluates the toughness of Eq. (24), T̃ = 2π∫ p̃ dΔ̃ from p̃ = 0 to
     the fixed-Δ pull-off, exactly on Chebyshev fits of p̃(ã) and Δ̃(ã) through ``cheb`` points.
-    Returns a dict with the keys of :func:`spectralbem.reference.johnson_special_points`.
+    Returns a dict with the keys of :func:`spectralbem.reference.johnson_special_points`;
+    an extremum the trace does not verify (at an end of the part of the branch it found) is
+    nan, and so is what depends on it.  Raises ValueError, naming the inputs, where no
+    equilibrium branch is found.
     """
     from numpy.polynomial import chebyshev as C
     from scipy.optimize import brentq
@@ -221,6 +225,10 @@ def special_points(zeta: float, beta: float, Gamma: float, *, a0_tilde: float,
     br = _Branch(pr)
     at = br.at
     A, P, D = br.trace(a_grid)
+    if A.size == 0:
+        raise ValueError(f"no equilibrium branch found for zeta = {shown(zeta)}, beta = "
+                         f"{shown(beta)}, Gamma = {shown(Gamma)}, a0_tilde = {shown(a0_tilde)} "
+                         f"(ã traced from {a_grid[0]:g} to {a_grid[-1]:g})")
 
     def refine(col, idx, sign):
         return br.refine(col, sign, A[max(idx - 1, 0)], A[min(idx + 1, A.size - 1)])
@@ -228,12 +236,27 @@ def special_points(zeta: float, beta: float, Gamma: float, *, a0_tilde: float,
     # the snap-in point is the branch's load maximum; beyond it (toward full contact) the
     # load falls again on an unstable branch, possibly below the pull-off load: the minima
     # are sought on the part of the branch before the maximum
-    imax = int(np.argmax(P))
+    j0 = _rise_start(P)  # past the fall from the smallest contact (strong adhesion)
+    imax = j0 + int(np.argmax(P[j0:]))
     interior = 0 < imax < A.size - 1
     a_pmax, p_max = refine(0, imax, -1.0) if interior else (np.nan, np.nan)
     before = A <= A[imax] if interior else np.ones(A.size, bool)
-    a_pmin, p_min = refine(0, int(np.argmin(np.where(before, P, np.inf))), 1.0)
-    a_dmin, d_min = refine(1, int(np.argmin(np.where(before, D, np.inf))), 1.0)
+
+    def minimum(col, V):
+        """The refined minimum of V before the snap-in; nan where it is an end of the part of
+        the branch the trace found (the branch still falls where the trace lost it, or rises
+        from where it first found it, below the grid's start: no minimum is verified)."""
+        k = int(np.argmin(np.where(before, V, np.inf)))
+        if k == A.size - 1:
+            return np.nan, np.nan
+        a_, v_ = refine(col, k, 1.0)
+        lost_below = A[0] > a_grid[0] * (1 + 1e-9)
+        if k == 0 and lost_below and abs(a_ - A[0]) <= 1e-3 * (A[1] - A[0]):
+            return np.nan, np.nan
+        return a_, v_
+
+    a_pmin, p_min = minimum(0, P)
+    a_dmin, d_min = minimum(1, D)
     cross = np.flatnonzero((P[:-1] < 0) & (P[1:] > 0) & (A[:-1] >= a_pmin))
     a_zero = (brentq(lambda a: at(a)[0], A[cross[0]], A[cross[0] + 1], xtol=1e-12)
               if cross.size else np.nan)
@@ -247,5 +270,6 @@ def special_points(zeta: float, beta: float, Gamma: float, *, a0_tilde: float,
         integrand = C.chebint(C.chebmul(cp, C.chebder(cd)))
         T = 2 * np.pi * float(C.chebval(-1.0, integrand) - C.chebval(1.0, integrand))
     return dict(a_pmin=a_pmin, p_min=p_min, a_pmax=a_pmax, p_max=p_max, a0=a_zero,
-                a_dmin=a_dmin, delta_min=d_min, p_dmin=at(a_dmin)[0], T=T,
+                a_dmin=a_dmin, delta_min=d_min,
+                p_dmin=at(a_dmin)[0] if np.isfinite(a_dmin) else np.nan, T=T,
                 branch={"a_tilde": A, "p_tilde": P, "delta_tilde": D})

@@ -246,6 +246,18 @@ def _verdict(pr: Sinusoid1D, control: str, value: float, ratio: complex, guess=N
     return _branch_verdict(pr, control, v, st, falling)
 
 
+def _rise_start(V: np.ndarray) -> int:
+    """The index where the traced branch V(ã) stops falling from its smallest contact (the
+    first local minimum): the rising part — pull-off to snap-in — and its maximum lie from
+    here on.  Near ã → 0 the load falls from 0⁻; where adhesion is strong that start lies
+    above the snap-in maximum (Johnson at Γ = 0.1: p̃ ≈ −0.06 at ã = 0.02, maximum −0.0809),
+    and the branch's global maximum was taken for the snap-in."""
+    j = 0
+    while j + 1 < V.size and V[j + 1] <= V[j]:
+        j += 1
+    return j
+
+
 def _branch_verdict(pr: Sinusoid1D, control: str, v: float, st: State, falling) -> Verdict:
     """:func:`_verdict` where the direct search found no stable equilibrium: the branch is
     traced on :data:`VERDICT_GRID` and the control value ``v`` (p̃ or Δ̃) placed on it."""
@@ -272,7 +284,8 @@ def _branch_verdict(pr: Sinusoid1D, control: str, v: float, st: State, falling) 
         return unsettled(f"no equilibrium branch found (ã from {VERDICT_GRID[0]:g} to "
                          f"{VERDICT_GRID[-1]:g}){_edge_census(pr, VERDICT_GRID / pr.k)}")
     V = P if load else D
-    if int(np.argmax(V)) == A.size - 1:  # still rising at the end of the grid: on to 99.6 %
+    j0 = _rise_start(V)
+    if j0 + int(np.argmax(V[j0:])) == A.size - 1:  # still rising at the end: on to 99.6 %
         A2, P2, D2 = br.trace(np.linspace(A[-1], 0.498 * pr.lam, 5)[1:])
         A, P, D = (np.concatenate(z) for z in ((A, A2), (P, P2), (D, D2)))
         V = P if load else D
@@ -284,8 +297,10 @@ def _branch_verdict(pr: Sinusoid1D, control: str, v: float, st: State, falling) 
         a_, v_ = br.refine(col, sign, lo, hi, xatol=1e-4)
         return (a_, v_) if sign * v_ <= sign * V[idx] else (A[idx], V[idx])
 
-    # the rising part: from the smallest value before the largest (the pull-off) up to it
-    i = int(np.argmax(V))
+    # the rising part: from the smallest value before the largest (the pull-off) up to it,
+    # past the fall from the smallest contact
+    j0 = _rise_start(V)
+    i = j0 + int(np.argmax(V[j0:]))
     j = int(np.argmin(V[: i + 1]))
     nodes, vals = list(A[j: i + 1]), list(V[j: i + 1])
     if v > V[i]:

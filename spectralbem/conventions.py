@@ -11,8 +11,12 @@ Signs (the seed's, checked in docs/derivations.md §1 and by tests/test_spectral
       The trailing (opening) edge is at the back (−v side), the leading (closing) edge at the
       front; a positive eccentricity ẽ means the contact is shifted toward the leading edge.
     * ``u`` is the surface displacement *into* the slab, ``p = -σ`` the pressure, positive in
-      compression.  The rigid profile ``h`` is the height toward the slab; in contact
-      ``u = h - max(h) + Δ``; the gap ``g = u - w ≥ 0``.
+      compression.  The rigid profile ``h`` is the height toward the slab; the prescribed
+      displacement is ``w = h - max(h) + Δ``, ``u = w`` in contact and the gap ``g = u - w ≥ 0``
+      elsewhere.
+    * Friction: μ = -(1/(A0 p̄)) ∫ p v̂·∇h, the force on the indenter opposing v̂ over the
+      normal force (> 0 for a dissipating contact); ``mu_lateral`` is the same along
+      v̂⊥ = ẑ × v̂: the lateral force's component against v̂⊥.
     * Gauge: for a half-space the q = 0 displacement mode is dropped, so Δ is measured from the
       mean level of the deformed surface (the seed's log|2 sin(kx/2)| kernel).
     * Energies use the compressive pressure (docs/derivations.md §3): ``U = ½∫p u ≥ 0``.

@@ -32,7 +32,8 @@ SCALARS = {
            "force opposing v over the normal force, Eq. (19) in 2D; adhesive viscoelastic: the "
            "force on the rigid profile at the balanced sub-cell front"),
     "mu_lateral": ("1", "lateral friction coefficient",
-                   "lateral force (along z × v) over the normal force"),
+                   "the force on the indenter against z × v over the normal force (as mu is "
+                   "against v)"),
     "mu_profile": ("1", "μ from the profile force",
                    "friction coefficient from the rigid-profile force on the mask"),
     "mu_dissipation": ("1", "μ from the dissipation",
@@ -236,7 +237,10 @@ def write_dataset(ds: xr.Dataset, path, *, format: str = "NETCDF4") -> Path:
     fd, tmp = _temporary(path)
     os.close(fd)
     try:
-        ds.to_netcdf(tmp, engine="netcdf4", format=format)
+        # coordinates carry no fill value (CF: a coordinate has none missing)
+        coords = {c: {"_FillValue": None} for c in ds.coords
+                  if ds[c].dtype.kind == "f" and "_FillValue" not in ds[c].encoding}
+        ds.to_netcdf(tmp, engine="netcdf4", format=format, encoding=coords)
         os.replace(tmp, path)
     except BaseException as exc:
         full = _full_disk(exc, path, int(ds.nbytes))

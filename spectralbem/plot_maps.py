@@ -192,7 +192,10 @@ def plot_contact(ds, path=None):
     y = ds["y"].values * scale
     p = ds["pressure_tilde"].values if seed else ds["pressure"].values
     contact = ds["contact"].values.astype(bool)
-    ext = (x[0], x[-1], y[0], y[-1])
+    # cell-centred values: the image spans half a cell beyond the first and last centres
+    hx = x[1] - x[0] if x.size > 1 else 1.0
+    hy = y[1] - y[0] if y.size > 1 else hx
+    ext = (x[0] - hx / 2, x[-1] + hx / 2, y[0] - hy / 2, y[-1] + hy / 2)
     panels = 3 if seed or "gap" not in ds else 4
     extra = not seed and "heights" in ds
     fig = plt.figure(figsize=(4.4 * panels, 8.3 if extra else 4.3), constrained_layout=True)

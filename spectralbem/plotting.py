@@ -307,12 +307,14 @@ def plot_contact(ds, path=None):
 
 def plot_profile_1d(ds, path=None):
     """1D state (seed method): pressure p/p* = −σ/p* (compressive positive, as the 2D maps)
-    and displacement u/Λ on the contact; the indenter slides along +x."""
+    and displacement u/Λ on the contact; the indenter slides along +x (−x in a physical scene
+    whose velocity points there: its fields are mirrored)."""
     fig, axes = plt.subplots(1, 2, figsize=(9, 3.6), constrained_layout=True)
     x = ds["x_tilde"].values
+    along = "−x" if float(ds.attrs.get("velocity_x", 1.0)) < 0 else "+x"
     axes[0].plot(x, -ds["sigma_tilde"].values, "C3-")
     axes[0].axhline(0.0, color="0.5", lw=0.8)
-    axes[0].set_xlabel("k x (sliding along +x)")
+    axes[0].set_xlabel(f"k x (sliding along {along})")
     axes[0].set_ylabel("p/p* (compressive +)")
     status = ds["status"].item()
     axes[0].set_title(f"{ds.attrs.get('model', '')}: status {status}, "
@@ -320,7 +322,7 @@ def plot_profile_1d(ds, path=None):
     if not _verified(status):
         _suptitle(fig, "", status, fontsize=10)
     axes[1].plot(x, ds["u_tilde"].values, "C0-")
-    axes[1].set_xlabel("k x (sliding along +x)")
+    axes[1].set_xlabel(f"k x (sliding along {along})")
     axes[1].set_ylabel("u/Λ")
     axes[1].set_title(f"ẽ = {float(ds['e_tilde']):.4g}, μ̄ = {float(ds['mu_bar']):.4g}")
     for ax in axes:

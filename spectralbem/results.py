@@ -84,8 +84,9 @@ def _friction_quotients(sums, scale, den_tol: float = 1e-9) -> dict:
 
 
 def edges_y_invariant(mask, offset, cell):
-    """Trailing/leading edge distances (l1, l2) from the summit, averaged over rows, with the
-    sub-cell offsets of the outer front cells."""
+    """The distances (l1, l2) of the −x and +x edges from the summit (trailing and leading
+    when v̂·x̂ ≥ 0), averaged over rows, with the sub-cell offsets of the outer front
+    cells."""
     lam = cell.Lx
     x = (cell.x + lam / 2) % lam - lam / 2
     l1s, l2s = [], []

@@ -164,7 +164,9 @@ def _solve_seed_grid(scene: Scene, mask0=None, progress=None):
     pm = out.pop("p_front", float(p.mean()))
     mu = out.pop("mu_bar_force_front", fr["mu_profile"])
     mu_lat = out.pop("mu_bar_lateral_front", fr["mu_lateral"])
-    out.update(a_tilde=(l1 + l2) / 2, e_tilde=(l2 - l1) / 2, p_tilde=pm / pstar,
+    # l1, l2: the edges on −x and +x; ẽ > 0 toward the leading edge, +x when v̂·x̂ ≥ 0
+    lead = -1.0 if sliding_direction(op)[0] < 0 else 1.0
+    out.update(a_tilde=(l1 + l2) / 2, e_tilde=lead * (l2 - l1) / 2, p_tilde=pm / pstar,
                delta_tilde=float(delta), mu_bar=mu, mu_bar_mask=fr["mu_profile"],
                mu_bar_dissipation=fr["mu_dissipation"], mu_bar_lateral=mu_lat)
     G1, G2 = out["G1_over_dgamma"], out["G2_over_dgamma"]
@@ -402,8 +404,13 @@ def _solve_1d(scene: Scene, guess=None):
                           _attrs(FIELDS["displacement"]))
     ds = ds.assign_coords(position=("x", ds.x_tilde.values / k,
                                     {"units": "m", "long_name": "position along x"}))
+    if scene.velocity[0] < 0:  # the 1D method slides along +x: its fields mirrored in x
+        ds = ds.isel(x=slice(None, None, -1))
+        ds = ds.assign_coords({c: ("x", -ds[c].values, ds[c].attrs)
+                               for c in ("x_tilde", "position")})
     ds.attrs.update({f"dimensionless_{n}": float(d[n]) for n in ("zeta", "beta", "Gamma",
                                                                   "a0_tilde")})
+    ds.attrs.update(velocity_x=float(scene.velocity[0]), velocity_y=float(scene.velocity[1]))
     return ds
 
 
@@ -591,8 +598,11 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
         fft_backend=fft.backend(), fft_threads=int(scene.solver["threads"]),
         fft_planner=fft.planner() if fft.backend() == "pyfftw" else "numpy",
         scene=json.dumps(_spec_as_solved(scene), sort_keys=True, default=str),
-        conventions="spectralbem.conventions: SI units; u into the slab, p compressive "
-                    "positive; seed Fourier convention (Im E < 0 for ω > 0)")
+        conventions=("spectralbem.conventions: "
+                     + ("the seed's dimensionless units (k = Λ = E0* = τ = 1)"
+                        if scene.kind == "sinusoid" else "SI units")
+                     + "; u into the slab, p compressive positive; seed Fourier convention "
+                       "(Im E < 0 for ω > 0)"))
     if interrupted:
         raise PathInterrupted(cf_attributes(ds), len(steps))
     warn(scene, ds)

@@ -283,6 +283,10 @@ def _read_heights(path: Path, variable: str, scale: float):
                     raise SurfaceError(f"height map {str(path)!r} has no variable "
                                        f"{variable!r} (variables: {', '.join(ds.data_vars)})")
                 da = ds[variable].load()
+            if da.ndim == 2 and set(da.dims) == {"x", "y"}:
+                # named dimensions decide the orientation (CF and GDAL files store (y, x));
+                # unnamed ones are taken as (x, y)
+                da = da.transpose("x", "y")
             h = da.values
             stated = da.attrs.get("units", da.attrs.get("unit"))
             unit = _length_unit(stated, f"{variable}.units", path)

@@ -270,3 +270,24 @@ def test_a_height_map_scene_takes_its_grid_from_the_file(tmp_path, monkeypatch):
     np.save(tmp_path / "t.npy", h)
     with pytest.raises(SceneError, match="grid.Lx"):
         load_scene({"surface": {"kind": "file", "path": str(tmp_path / "t.npy")}, **common})
+
+
+def test_netcdf_height_map_is_oriented_by_its_dimension_names(tmp_path):
+    """A netCDF map stored (y, x), as CF and GDAL files are, is the same surface as the one
+    stored (x, y): its dimensions are read by name (a square map was silently transposed, a
+    non-square one refused with a size error that did not say why)."""
+    import xarray as xr
+
+    from spectralbem.surfaces import read_heights
+
+    x = np.arange(32) * 1e-3 / 32
+    y = np.arange(16) * 0.5e-3 / 16
+    h = 1e-6 * np.cos(2 * np.pi * x / 1e-3)[:, None] * np.ones(16)  # ridges along y
+    for dims, values in ((("x", "y"), h), (("y", "x"), h.T)):
+        path = tmp_path / f"{''.join(dims)}.nc"
+        xr.Dataset({"heights": (dims, values, {"units": "m"})},
+                   coords={"x": ("x", x, {"units": "m"}), "y": ("y", y, {"units": "m"})}
+                   ).to_netcdf(path)
+        got, size = read_heights(path)
+        assert got.shape == (32, 16) and np.array_equal(got, h), dims
+        assert np.allclose(size, (1e-3, 0.5e-3))

@@ -287,8 +287,10 @@ def _profile(ax, ds, seed, p, contact, dist, ii, jj):
 
 
 def _spectrum(h, hx, hy):
-    """The surface's power C (m⁴) at each wavevector's |q| (1/m) of the grid."""
-    C = (hx * hy) / h.size * np.abs(np.fft.fft2(h - h.mean())) ** 2
+    """The surface's power spectrum C (m⁴) at each wavevector's |q| (1/m) of the grid, in
+    Persson's normalisation: C(q) = A/((2π)² N²) |FFT(h)|², so that Σ C Δ²q = ⟨h²⟩ with
+    Δ²q = (2π)²/A the area per wavevector."""
+    C = (hx * hy) / (h.size * (2 * np.pi) ** 2) * np.abs(np.fft.fft2(h - h.mean())) ** 2
     qx = 2 * np.pi * np.fft.fftfreq(h.shape[0], hx)
     qy = 2 * np.pi * np.fft.fftfreq(h.shape[1], hy)
     return np.hypot(*np.meshgrid(qx, qy, indexing="ij")), C
@@ -330,7 +332,7 @@ def _distributions(fig, gs, ds, p_in, x, y):
         pos = (n > 0) & (Cc > 1e-30 * max(Cc.max(), 1e-300))
         ax.loglog(qc[pos], Cc[pos], "o-", ms=3)
         ax.set_xlabel("wavenumber |q| (1/m)")
-        ax.set_ylabel("C(q) (m⁴)")
+        ax.set_ylabel("C(q) (m⁴; ∫C d²q = ⟨h²⟩)")
         ax.set_title("surface power spectrum (radial mean)")
     if "G_front" in ds:
         ax = fig.add_subplot(gs[1, 2])

@@ -632,3 +632,23 @@ def test_interrupted_path_keeps_its_finished_steps(tmp_path, monkeypatch, capsys
     assert list(ds.control_value.values) == [1e3, 2e3]
     assert list(ds.status.values) == ["partial", "partial"]
     assert "history" in ds.attrs
+
+
+def test_the_figure_power_spectrum_has_persson_normalisation():
+    """The state figure's C(q) integrates to the surface's mean square height, ∫C d²q = ⟨h²⟩
+    (Persson's normalisation, the one tribology papers plot; it was (2π)² times that):
+    Σ C (2π)²/A over the wavevectors equals ⟨(h − h̄)²⟩ to round-off, and a single mode of
+    amplitude Λ puts Λ²A/(4(2π)²) at ±q."""
+    from spectralbem.plot_maps import _spectrum
+
+    rng = np.random.default_rng(1)
+    nx, ny, hx, hy = 32, 16, 2e-6, 3e-6
+    h = rng.normal(size=(nx, ny)) * 1e-6
+    q, C = _spectrum(h, hx, hy)
+    area = nx * hx * ny * hy
+    assert np.sum(C) * (2 * np.pi) ** 2 / area == pytest.approx(np.var(h), rel=1e-12)
+    lam = 1e-6
+    x = np.arange(nx) * hx
+    q1, C1 = _spectrum(lam * np.cos(2 * np.pi * 3 * x / (nx * hx))[:, None] * np.ones(ny),
+                       hx, hy)
+    assert C1.max() == pytest.approx(lam**2 * area / (4 * (2 * np.pi) ** 2), rel=1e-12)

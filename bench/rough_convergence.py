@@ -214,7 +214,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "per doubling from 256² to 1024², μ by 0.9 % and 0.4 %, G1 and G2 by ≤ 0.8 % and "
              "0.2 %: settled to about half a per cent, though not yet in an asymptotic range "
              "(the area's changes shrink at order 0.2: no Richardson estimate); μ_a moves by "
-             "1.5 % from 512² to 1024² (2 and 4 cells per vτ) and is 20 % below 512² at 256² "
+             "1.7 % from 512² to 1024² (2 and 4 cells per vτ) and is 19 % below 512² at 256² "
              "(one cell per vτ). The elastic loading area at a0 = 7.8 µm, edge extrapolated, "
              "moves by 0.3 % from 256² to 512².",
              "- **The state at a load is not unique.** Adhesion makes the contact "
@@ -227,7 +227,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "tests' edge: 1.6 % and 0.2 % of area on loading at 256² and 512², 1.6 % and "
              "2.0 % on unloading). μ_a, a small difference summed over the crack tips, "
              "moves with the start more than with the grid: the SLS path from the "
-             "coarse-grid start reads μ_a +3 % and −8 % on loading at 256² and 512², −20 % "
+             "coarse-grid start reads μ_a +3 % and −8 % on loading at 256² and 512², −19 % "
              "and −13 % on unloading, where its area and μ stay within 0.6 % (but for the "
              "512² unloading state: area −4.2 %, μ −1.5 %); the two starts at 1024² differ by 12 % "
              "([docs/theory.md, \"Known limits\"](theory.md#known-limits)). The spread "
@@ -243,7 +243,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "state ([docs/theory.md, \"Load-path steps\"](theory.md#load-path-steps)). The "
              "SLS unloading state at 256² is "
              "2 % below 512² and 1024², which agree within 0.2 %.",
-             "- **μ_a at 3e4 Pa and on unloading** is not converged at 1024² (16 % and 10 % "
+             "- **μ_a at 3e4 Pa and on unloading** is not converged at 1024² (15 % and 10 % "
              "from 512²): G1 − G2 is 0.13-0.17 Δγ there, so a 1 % move of G1 moves μ_a by "
              "7-8 %, and at 3e4 Pa about 90 % of μ_a sits on the edges of the non-contact "
              "lakes, whose G1 still grows by 13 % per doubling ([docs/theory.md, "

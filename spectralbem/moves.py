@@ -171,9 +171,9 @@ def release_out_of_bounds(op, tests, tip, dgamma, offset_out=None, a0=None) -> s
     crack-tip edges (resolved outer front cells not next to an edge held by contact) above
     (1 + RELEASE_SLACK) β Δγ or below its negative, β = E∞/E0: an edge moving steadily in a
     viscoelastic solid releases at most the glassy factor of Δγ (G = Δγ in an elastic
-    scene).  A 2-cycle that
-    brackets no root (a tensile load beyond the pull-off, where each flip also moves Δ)
-    passes the test in position and ends here (G1 = 34 Δγ at β = 10).  The work of a band of
+    scene).  A 2-cycle that brackets no root (a tensile load beyond the pull-off, where each
+    flip also moves Δ) passes the test in position and ends here (G1 = 34 Δγ at β = 10).
+    The work of a band of
     finite width a0 can release less than Δγ/β, even a negative G (the 1D method: G1 =
     −0.42 Δγ at β = 10, ζ = 2.15, p̃ = 0.15, ã0 = 0.01), so the sharp-crack lower bound Δγ/β
     does not apply; the same glassy factor is allowed below zero, G ≥ −(1 + RELEASE_SLACK)

@@ -211,6 +211,7 @@ class FrontIteration:
             # Σ p fixed, Δ its multiplier: one projected solve (docs/derivations.md §8)
             guard = int(20 * np.sqrt(np.count_nonzero(mask)) + 500)
             p, used = self.p, 0
+            rhs = (h - hmax)[mask]  # scale: the profile's variation or the displacement
             for _ in range(1 + REFINEMENTS):
                 p, n, _pairs, rel = solve_packed(op, mask, p, h - hmax,
                                                  (self.mean_pressure - self.corr) * mask.size,
@@ -220,7 +221,6 @@ class FrontIteration:
                 u = op.apply(p)
                 r = (u - (h - hmax))[mask]
                 self.delta = float(r.mean())
-                rhs = (h - hmax)[mask]  # scale: the profile's variation or the displacement
                 scale = max(float(np.linalg.norm(rhs - rhs.mean())),
                             float(np.linalg.norm(u[mask])), 1e-300)
                 rel = float(np.linalg.norm(r - self.delta)) / scale
@@ -421,7 +421,11 @@ class FrontIteration:
             self.message = (f"{reason}; {100 * frac:.1f} % of the resolved front balanced "
                             f"within {front_tol:g} cells (largest residual {rmax:.3f} cells)")
             return _BREAK
-        self.mask = (mask | add) & ~remove
+        return self._move(add, remove)
+
+    def _move(self, add, remove) -> str:
+        """The mask follows the balance: ``add`` cells join, ``remove`` cells leave."""
+        self.mask = (self.mask | add) & ~remove
         self.last_change = add | remove
         # the tests and bands of the old mask: freed before the next state's solves
         self.tests = self.res_out = None
@@ -466,11 +470,7 @@ class FrontIteration:
                                    new_corr, LOAD_TOL * float(np.abs(self.p).mean()))
         if nxt is None and not self.escaped and (add.any() or remove.any()):
             self.escaped = True
-            self.mask = (self.mask | add) & ~remove
-            self.last_change = add | remove
-            self.opened |= remove
-            self.tests = self.res_out = None
-            return _NEXT
+            return self._move(add, remove)
         if nxt is None:
             steps = self.load_steps
             (ca, _), (cb, _) = steps.ends[1], steps.ends[-1]

@@ -117,6 +117,33 @@ def _check_output(path: Path, inputs=(), suffixes=(), hint: str = ""):
                          f"{'es' if len(suffixes) > 1 else ''}: {', '.join(suffixes)}{hint}")
 
 
+#: scene keys whose value names an input file (read relative to the scene's folder)
+INPUT_FILE_KEYS = ("path", "dgamma_map")
+
+
+def _inputs(scene_path, overrides=None) -> list:
+    """The scene file and every file it reads (a height map, a modulus table, a Δγ map):
+    what an output must not overwrite.  A scene that does not parse gives the scene file
+    alone (its loader reports the problems)."""
+    from .scenes import apply_overrides, read_scene_file
+
+    found = [Path(scene_path)]
+    try:
+        raw = apply_overrides(read_scene_file(scene_path), overrides)
+    except Exception:  # noqa: BLE001 (the scene's own loader says what is wrong)
+        return found
+    base = Path(scene_path).resolve().parent
+    stack = [raw]
+    while stack:
+        d = stack.pop()
+        for k, v in d.items():
+            if isinstance(v, dict):
+                stack.append(v)
+            elif k in INPUT_FILE_KEYS and isinstance(v, str) and v.strip():
+                found.append(base / v)
+    return found
+
+
 def _run(args) -> int:
     from .io import STATUS_MEANING, cf_attributes, write_dataset
     from .plausibility import PlausibilityWarning, state_warnings
@@ -125,7 +152,8 @@ def _run(args) -> int:
     from .solving import REPORTED, PathInterrupted
 
     out = Path(args.output)
-    _check_output(out, [args.scene], DATASET_SUFFIXES, DATASET_HINT)  # before any heavy work
+    _check_output(out, _inputs(args.scene, _overrides(args.set)), DATASET_SUFFIXES,
+                  DATASET_HINT)  # before any heavy work
     scene = load_scene(args.scene, overrides=_overrides(args.set))
     _plausible(scene, args.strict)
     t = time.perf_counter()
@@ -159,7 +187,8 @@ def _sweep(args) -> int:
     from .sweep import SweepInterrupted, parse_over, run_sweep
 
     out = Path(args.output)
-    _check_output(out, [args.scene], DATASET_SUFFIXES, DATASET_HINT)
+    _check_output(out, _inputs(args.scene, _overrides(args.set)), DATASET_SUFFIXES,
+                  DATASET_HINT)
     over = [parse_over(o) for o in args.over]
     t = time.perf_counter()
     counts = {}
@@ -214,7 +243,8 @@ def _refine(args) -> int:
     from .scenes import load_scene, read_scene_file
 
     out = Path(args.output)
-    _check_output(out, [args.scene], DATASET_SUFFIXES, DATASET_HINT)
+    _check_output(out, _inputs(args.scene, _overrides(args.set)), DATASET_SUFFIXES,
+                  DATASET_HINT)
     ov = _overrides(args.set)
     finest = resolution_overrides(read_scene_file(args.scene), ov, args.sizes, args.a0_cells,
                                   Path(args.scene).resolve().parent)[-1]

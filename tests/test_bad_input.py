@@ -208,6 +208,28 @@ def test_cli_bad_input(argv, words, tmp_path, capsys, monkeypatch):
         assert not Path(args[args.index("-o") + 1]).exists()
 
 
+@pytest.mark.parametrize("command", ["run", "sweep", "refine"])
+def test_output_is_none_of_the_files_the_scene_reads(command, tmp_path, capsys):
+    """``-o`` naming the scene's own height map is refused before any solve (``run`` replaced
+    the user's height map by its result, and ``sweep`` did at its end); relative to the
+    scene's folder, as the scene reads it."""
+    import numpy as np
+    import xarray as xr
+
+    h = 1e-6 * np.random.default_rng(0).standard_normal((16, 16))
+    xr.Dataset({"heights": (("x", "y"), h)}).to_netcdf(tmp_path / "h.nc")
+    before = (tmp_path / "h.nc").read_bytes()
+    (tmp_path / "file.toml").write_text(
+        '[grid]\nLx = 1e-3\nLy = 1e-3\n[surface]\nkind = "file"\npath = "h.nc"\n'
+        '[material]\nkind = "elastic"\nE = 2e6\n[control]\nmean_pressure = 1e4\n')
+    extra = {"run": [], "sweep": ["--over", "E=1e6,2e6"], "refine": ["--sizes", "16", "32"]}
+    argv = [command, str(tmp_path / "file.toml"), *extra[command], "-o", str(tmp_path / "h.nc")]
+    assert cli.main(argv) == 1
+    err = capsys.readouterr().err
+    assert "is the input" in err and "h.nc" in err, err
+    assert (tmp_path / "h.nc").read_bytes() == before
+
+
 def test_plot_output_is_an_image(tmp_path, capsys):
     """``plot -o`` writes images (matplotlib's formats), refused otherwise before rendering;
     ``run -o x.png`` wrote a netCDF file named x.png (refused: test_cli_bad_input)."""

@@ -24,8 +24,8 @@ address is given.  Its scheduler, workers and nannies listen on the loopback int
 and its dashboard is off unless asked for (``dashboard=True``: on 127.0.0.1).  Anyone who can
 connect to a dask scheduler can run code in its workers: give ``scheduler`` only the address
 of a cluster on a trusted network (or reached through an SSH tunnel).  A point whose worker
-dies is retried by dask (``retries``).  A point that raises is reported at the end; the
-finished ones stay on disk.
+dies is rescheduled by dask's scheduler (``distributed.scheduler.allowed-failures``); a point
+whose solve raises is solved once and reported at the end; the finished ones stay on disk.
 """
 
 from __future__ import annotations
@@ -36,6 +36,7 @@ import logging
 import os
 import signal
 import tempfile
+import uuid
 import warnings
 from pathlib import Path
 
@@ -191,22 +192,31 @@ def _point_variables(ds):
 
 
 def _run_point(raw, base, overrides, index, digest, part):
-    """Worker task: solve one point and persist it atomically; returns (part path, sha256)."""
+    """Worker task: solve one point and persist it atomically; returns (part path, sha256,
+    None), or (None, None, why) when the point failed.  A failure is returned, not raised:
+    dask's ``retries`` would solve a point whose solve raises again, with the same outcome
+    (a deterministic failure cost three solves); a worker that dies is rescheduled by the
+    scheduler itself (``distributed.scheduler.allowed-failures``)."""
     import dask
 
     from .plausibility import PlausibilityWarning
     from .scenes import solve
 
-    scene = load_scene(raw, overrides=overrides, base_dir=base)
-    with warnings.catch_warnings():  # the driver reported them when it validated the points
-        warnings.simplefilter("ignore", PlausibilityWarning)
-        ds = _point_variables(solve(scene))
-    ds.attrs.update(sweep_index=index, sweep_digest=digest)
-    # xarray asks dask for its scheduler when it writes: inside a worker that would open a
-    # client back to the scheduler (one per worker, left unclosed when a sweep is stopped)
-    with dask.config.set(scheduler="synchronous"):
-        write_dataset(ds, part)
-    return part, sha256_file(part)
+    try:
+        scene = load_scene(raw, overrides=overrides, base_dir=base)
+        with warnings.catch_warnings():  # the driver reported them when it validated them
+            warnings.simplefilter("ignore", PlausibilityWarning)
+            ds = _point_variables(solve(scene))
+        ds.attrs.update(sweep_index=index, sweep_digest=digest)
+        # xarray asks dask for its scheduler when it writes: inside a worker that would open
+        # a client back to the scheduler (one per worker, left unclosed when a sweep stops)
+        with dask.config.set(scheduler="synchronous"):
+            write_dataset(ds, part)
+        return part, sha256_file(part), None
+    except DiskFullError as exc:
+        return None, None, str(exc)
+    except Exception as exc:  # noqa: BLE001 (reported with the point at the sweep's end)
+        return None, None, f"{type(exc).__name__}: {exc}"
 
 
 class _IgnoreSigint(WorkerPlugin):
@@ -462,8 +472,12 @@ def _compute(todo, allpt, raw, base, digest, files, manifest, points, parts, sch
     try:
         from dask.distributed import as_completed
 
+        # keys of this run only: two sweeps of one scene on a shared scheduler had the same
+        # keys, and dask merged the second's tasks into the first's (its points written to
+        # the first one's parts folder)
+        run = uuid.uuid4().hex
         futs = {client.submit(_run_point, raw, str(base), allpt[i], i, digest,
-                              str(files[i]), key=f"sweep-{digest}-{i}", pure=False,
+                              str(files[i]), key=f"sweep-{digest}-{run}-{i}", pure=False,
                               retries=retries): i for i in todo}
         if progress:  # a bar on a terminal, else plain lines (progress.progress_bar)
             from .progress import progress_bar
@@ -473,11 +487,11 @@ def _compute(todo, allpt, raw, base, digest, files, manifest, points, parts, sch
         for fut in as_completed(futs):
             i = futs[fut]
             try:
-                _, sha = fut.result()
-            except DiskFullError as exc:
-                failed[i] = str(exc)
-            except Exception as exc:  # keep going: the other points still finish
-                failed[i] = f"{type(exc).__name__}: {exc}"
+                _, sha, why = fut.result()
+            except Exception as exc:  # keep going (the task itself failed: a lost worker)
+                sha, why = None, f"{type(exc).__name__}: {exc}"
+            if why is not None:
+                failed[i] = why
             else:
                 manifest.record(i, sha)
                 try:

@@ -430,3 +430,43 @@ def test_ctrl_c_prints_one_line_and_the_same_command_resumes(tmp_path):
                                                   "sinusoid.p_tilde": [0.1, 0.2]}))
         for v in ("a_tilde", "e_tilde", "mu_bar", "G1_over_dgamma", "status"):
             np.testing.assert_array_equal(ds[v].values[i], ref[v].values, err_msg=v)
+
+
+def test_a_failing_point_is_solved_once(tmp_path, scheduler, monkeypatch):
+    """A point whose solve raises is reported after one solve: dask's ``retries`` re-ran any
+    task that raised, so a deterministic failure cost three solves before it was named."""
+    import spectralbem.scenes as scenes
+
+    calls = []
+
+    def failing(scene, **kw):
+        calls.append(1)
+        raise RuntimeError("deterministic failure")
+
+    monkeypatch.setattr(scenes, "solve", failing)
+    with pytest.raises(SweepError, match="point 0 .*RuntimeError: deterministic failure"):
+        run_sweep(SEED1D, [("zeta", [0.1])], tmp_path / "f.nc", scheduler=scheduler,
+                  progress=False)
+    assert len(calls) == 1
+
+
+def test_two_sweeps_of_one_scene_have_their_own_task_keys(tmp_path, scheduler, monkeypatch):
+    """The task keys of a sweep are its run's own: keys made of the sweep's digest and the
+    point's index were the same for two identical sweeps to different outputs, and on one
+    shared scheduler at once dask merged the second's tasks into the first's (the second
+    failed: its points were written to the first one's parts folder)."""
+    from distributed import Client
+
+    keys, submit = [], Client.submit
+
+    def spy(self, *args, key=None, **kw):
+        keys.append(key)
+        return submit(self, *args, key=key, **kw)
+
+    monkeypatch.setattr(Client, "submit", spy)
+    for name in ("a.nc", "b.nc"):
+        run_sweep(SEED1D, [("zeta", [0.1, 0.2])], tmp_path / name, scheduler=scheduler,
+                  progress=False)
+    assert len(keys) == 4 and len(set(keys)) == 4, keys
+    xr.testing.assert_identical(read_dataset(tmp_path / "a.nc").drop_attrs(),
+                                read_dataset(tmp_path / "b.nc").drop_attrs())

@@ -186,7 +186,8 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "## How to read the tables", "",
              "- The error columns are Richardson estimates from the three finest grids of a "
              "table: nan where the differences do not shrink monotonically or shrink slower "
-             "than order ½ (no asymptotic range yet). They measure the grid error at the "
+             "than order ½ or faster than order 4 (no asymptotic range yet: "
+             "`spectralbem.refinement.richardson`). They measure the grid error at the "
              "stated a0 only.",
              "- **Elastic scenes**: a0 is numerical, and the answer also moves with a0 while "
              "a0 is not small against the contact patches (compare the tables of 3.9 and "

@@ -40,8 +40,8 @@ __all__ = ["refine", "richardson", "resolution_overrides", "summary", "varying",
 
 #: the quantities whose refinement is estimated (those a scene's datasets have)
 QUANTITIES = ("area_fraction", "penetration", "mean_pressure", "mu", "mu_adhesive", "G1",
-              "G2", "front_length", "crack_tip_length", "a_tilde", "e_tilde", "mu_bar",
-              "mu_bar_adhesive", "G1_over_dgamma", "G2_over_dgamma")
+              "G2", "front_length", "crack_tip_length", "a_tilde", "e_tilde", "delta_tilde",
+              "p_tilde", "mu_bar", "mu_bar_adhesive", "G1_over_dgamma", "G2_over_dgamma")
 #: below this observed order the differences are taken as not yet asymptotic (no estimate)
 ORDER_MIN = 0.5
 #: above this observed order too: no discretisation of the package converges faster (the
@@ -298,15 +298,17 @@ def _estimates(vals: np.ndarray, ratio: float):
 
 
 def _control(ds) -> str | None:
-    """The prescribed control of the refined scene (mean_pressure or penetration), if known."""
+    """The prescribed control of the refined scene (mean_pressure or penetration; a seed
+    scene's p_tilde or delta_tilde), if known."""
     import json
 
     try:
-        control = json.loads(ds.attrs.get("scene", "{}")).get("control") or {}
+        scene = json.loads(ds.attrs.get("scene", "{}"))
     except (TypeError, ValueError):
         return None
-    return next((k for k in ("mean_pressure", "penetration") if control.get(k) is not None),
-                None)
+    control = scene.get("control") or scene.get("sinusoid") or {}
+    return next((k for k in ("mean_pressure", "penetration", "p_tilde", "delta_tilde")
+                 if control.get(k) is not None), None)
 
 
 def varying(ds, quantities=QUANTITIES) -> list:

@@ -313,6 +313,10 @@ def test_refinement_of_the_seed_sinusoid_approaches_the_1d_method(tmp_path):
         limit, finest = float(ds[f"{q}_limit"]), float(ds[q].values[-1])
         assert abs(limit / ref - 1) <= 3e-3, q
         assert abs(limit - ref) < abs(finest - ref), q
+    # Δ̃, the free output under load control, is refined too (it was left out); p̃ is the
+    # prescribed control
+    assert "delta_tilde_order" in ds and "delta_tilde" in refinement.varying(ds)
+    assert "p_tilde" not in refinement.varying(ds)
     # G2 hardly moves from 2000 to 4000 cells (observed order 10): no limit and no error is
     # claimed (an error of 0.000 % was, where the finest grid lies 0.09 % from the 1D method)
     q = "G2_over_dgamma"

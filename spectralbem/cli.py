@@ -117,31 +117,19 @@ def _check_output(path: Path, inputs=(), suffixes=(), hint: str = ""):
                          f"{'es' if len(suffixes) > 1 else ''}: {', '.join(suffixes)}{hint}")
 
 
-#: scene keys whose value names an input file (read relative to the scene's folder)
-INPUT_FILE_KEYS = ("path", "dgamma_map")
-
-
 def _inputs(scene_path, overrides=None) -> list:
     """The scene file and every file it reads (a height map, a modulus table, a Δγ map):
     what an output must not overwrite.  A scene that does not parse gives the scene file
     alone (its loader reports the problems)."""
     from .scenes import apply_overrides, read_scene_file
+    from .schema import input_paths
 
-    found = [Path(scene_path)]
     try:
-        raw = apply_overrides(read_scene_file(scene_path), overrides)
+        spec = apply_overrides(read_scene_file(scene_path), overrides)
+        files = input_paths(spec, Path(scene_path).resolve().parent)
     except Exception:  # noqa: BLE001 (the scene's own loader says what is wrong)
-        return found
-    base = Path(scene_path).resolve().parent
-    stack = [raw]
-    while stack:
-        d = stack.pop()
-        for k, v in d.items():
-            if isinstance(v, dict):
-                stack.append(v)
-            elif k in INPUT_FILE_KEYS and isinstance(v, str) and v.strip():
-                found.append(base / v)
-    return found
+        files = {}
+    return [Path(scene_path), *files.values()]
 
 
 def _run(args) -> int:

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 import re
+from pathlib import Path
 
 from .conventions import plain, shown
 from .keys import (  # noqa: F401 (re-exported: the schema's vocabulary)
@@ -488,3 +489,27 @@ def _check_physical(out, problems):
             # a flaw wider than the cell would open the whole contact at once
             problems.append(f"adhesion.flaw_radius: {shown(fr)} m is larger than half the cell; "
                             f"allowed (0, {0.5 * max(g['Lx'], g['Ly']):.4g}] m")
+
+
+def section_keys(raw: dict, sec: str) -> dict:
+    """The schema's keys of section ``sec`` of the scene mapping ``raw`` (a section with
+    kinds: those of its kind)."""
+    spec = SECTIONS.get(sec)
+    if spec is None and sec in KINDS:
+        kind = raw[sec].get("kind") if isinstance(raw.get(sec), dict) else None
+        spec = KINDS[sec].get(kind, {})
+    return spec or {}
+
+
+def input_paths(spec: dict, base) -> dict:
+    """``{"section.key": path}`` of every file the scene mapping ``spec`` reads (the keys of
+    type path: a height map, a modulus table, a Δγ map), relative to ``base``."""
+    out = {}
+    for sec, body in spec.items():
+        if not isinstance(body, dict):
+            continue
+        for key, k in section_keys(spec, sec).items():
+            value = body.get(key)
+            if k.type == "path" and isinstance(value, str):
+                out[f"{sec}.{key}"] = Path(base) / value
+    return out

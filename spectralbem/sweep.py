@@ -53,7 +53,7 @@ from .io import (
 )
 from .plausibility import scene_warnings
 from .scenes import apply_overrides, load_scene, read_scene_file
-from .schema import KINDS, SECTIONS, SceneError
+from .schema import SceneError, input_paths, section_keys
 from .sweep_parts import (  # noqa: F401  (SweepError is part of this module's interface)
     SweepError,
     _check_parts,
@@ -110,14 +110,6 @@ def parse_over(text: str):
     return key, [float(v) for v in values]
 
 
-def _section_keys(raw: dict, sec: str) -> dict:
-    spec = SECTIONS.get(sec)
-    if spec is None and sec in KINDS:
-        kind = raw[sec].get("kind") if isinstance(raw.get(sec), dict) else None
-        spec = KINDS[sec].get(kind, {})
-    return spec or {}
-
-
 def _check_axes(keys: list, over: list, workers) -> None:
     """The sweep's axes and workers before any point is built: each key swept once, at most
     :data:`MAX_POINTS` points, at least one worker."""
@@ -136,7 +128,7 @@ def _typed(raw: dict, key: str, value: float):
     """A swept value as its key's type: a whole number for an integer key (``surface.seed``,
     ``grid.Nx``), refused if it is not one."""
     sec, name = key.split(".", 1)
-    spec = _section_keys(raw, sec).get(name)
+    spec = section_keys(raw, sec).get(name)
     if spec is not None and spec.type == "integer":
         if not float(value).is_integer():
             raise SceneError(f"--over {key}: {value:g} is not a whole number")
@@ -148,7 +140,7 @@ def resolve_key(raw: dict, key: str) -> str:
     """A swept key as 'section.key': a bare name is looked up in the scene's sections."""
     if "." in key:
         return key
-    hits = [f"{sec}.{key}" for sec in raw if key in _section_keys(raw, sec)]
+    hits = [f"{sec}.{key}" for sec in raw if key in section_keys(raw, sec)]
     if len(hits) != 1:
         raise SceneError(f"--over {key}: " + ("not a key of this scene" if not hits else
                                                f"ambiguous ({', '.join(hits)})")
@@ -158,24 +150,14 @@ def resolve_key(raw: dict, key: str) -> str:
 
 def _units(raw: dict, dotted: str) -> str:
     sec, key = dotted.split(".", 1)
-    k = _section_keys(raw, sec).get(key)
+    k = section_keys(raw, sec).get(key)
     return (k.units or "1") if k is not None else "1"
 
 
 def input_files(raw: dict, overrides: dict | None, base) -> dict:
     """``{"section.key": sha256 of the file}`` for every file the scene refers to."""
-    spec = apply_overrides(raw, overrides)
-    out = {}
-    for sec, body in spec.items():
-        if not isinstance(body, dict):
-            continue
-        for key, k in _section_keys(spec, sec).items():
-            value = body.get(key)
-            if k.type != "path" or not isinstance(value, str):
-                continue
-            path = Path(base) / value
-            out[f"{sec}.{key}"] = sha256_file(path) if path.is_file() else "not a regular file"
-    return out
+    return {k: sha256_file(p) if p.is_file() else "not a regular file"
+            for k, p in input_paths(apply_overrides(raw, overrides), base).items()}
 
 
 def _digest(raw: dict, overs: list, overrides: dict | None, inputs: dict, version: str) -> str:

@@ -33,6 +33,7 @@ from __future__ import annotations
 import itertools
 import json
 import logging
+import math
 import os
 import signal
 import tempfile
@@ -101,13 +102,14 @@ def parse_over(text: str):
                 values = np.geomspace(a, b, n)
             else:
                 values = np.linspace(a, b, n)
-        else:
-            values = np.array([float(v) for v in spec.split(",")])
+        else:  # a whole number as written stays exact (a seed above 2**53)
+            values = [int(v) if v.strip().lstrip("+-").isdigit() else float(v)
+                      for v in spec.split(",")]
     except ValueError as exc:
         raise SceneError(f"--over {text!r}: {exc}") from exc
-    if not np.all(np.isfinite(values)):
+    if not all(math.isfinite(v) for v in values):
         raise SceneError(f"--over {text!r}: values must be finite")
-    return key, [float(v) for v in values]
+    return key, [v if isinstance(v, int) else float(v) for v in values]
 
 
 def _check_axes(keys: list, over: list, workers) -> None:
@@ -116,6 +118,11 @@ def _check_axes(keys: list, over: list, workers) -> None:
     dup = sorted({k for k in keys if keys.count(k) > 1})
     if dup:
         raise SceneError(f"--over: {', '.join(dup)} swept more than once (one --over per key)")
+    for k, (_, values) in zip(keys, over, strict=True):
+        twice = sorted({v for v in values if values.count(v) > 1})
+        if twice:  # each would be solved again, and the axis would not index the points
+            raise SceneError(f"--over {k}: {', '.join(f'{v:g}' for v in twice)} given more "
+                             "than once (each value once)")
     n = int(np.prod([len(v) for _, v in over], dtype=float))
     if n > MAX_POINTS:
         raise SceneError(f"--over: {n:.3g} points ({' × '.join(str(len(v)) for _, v in over)})"
@@ -124,16 +131,16 @@ def _check_axes(keys: list, over: list, workers) -> None:
         raise SceneError(f"--workers: {workers} must be >= 1 (default: all cores)")
 
 
-def _typed(raw: dict, key: str, value: float):
+def _typed(raw: dict, key: str, value):
     """A swept value as its key's type: a whole number for an integer key (``surface.seed``,
-    ``grid.Nx``), refused if it is not one."""
+    ``grid.Nx``), refused if it is not one; a float otherwise."""
     sec, name = key.split(".", 1)
     spec = section_keys(raw, sec).get(name)
     if spec is not None and spec.type == "integer":
         if not float(value).is_integer():
             raise SceneError(f"--over {key}: {value:g} is not a whole number")
         return int(value)
-    return value
+    return float(value)
 
 
 def resolve_key(raw: dict, key: str) -> str:

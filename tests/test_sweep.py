@@ -36,6 +36,23 @@ def test_parse_over_and_keys():
         resolve_key(raw, "speed")
 
 
+def test_swept_values_are_each_given_once_and_whole_numbers_stay_exact(tmp_path):
+    """A value given twice is refused before any solve (it was solved twice, and the axis
+    then indexed two points by one value); a whole number as written is kept exact (seeds
+    above 2**53 were rounded through a float: 9007199254740993 solved as ...992)."""
+    with pytest.raises(SceneError, match=r"sinusoid.zeta: 0.1 given more than once"):
+        run_sweep(CASE, [parse_over("zeta=0.1,0.1,1")], tmp_path / "d.nc", progress=False)
+    assert not (tmp_path / "d.nc.parts").exists()
+    with pytest.raises(SceneError, match=r"given more than once"):
+        run_sweep(CASE, [parse_over("zeta=1:1:3")], tmp_path / "d.nc", progress=False)
+    big = parse_over("surface.seed=9007199254740993,12345678901234567")[1]
+    assert big == [9007199254740993, 12345678901234567]
+    raw = {"surface": {"kind": "self_affine"}}
+    assert [sweep._typed(raw, "surface.seed", v) for v in big] == big
+    assert parse_over("zeta=1,2.5")[1] == [1, 2.5]
+    assert sweep._typed({"sinusoid": {}}, "sinusoid.zeta", 1) == 1.0
+
+
 def reference(zetas):
     """The uninterrupted result, solved point by point in this process."""
     out = []

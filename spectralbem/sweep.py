@@ -360,11 +360,13 @@ def _assemble(files, names, keys, grids, raw, digest, version, history=None):
     res = xr.Dataset(variables, coords=coords)
     first = dss[0]
     attrs = {k: first.attrs[k] for k in ("title", "model", "fft_backend", "fft_threads",
-                                         "conventions") if k in first.attrs}
+                                         "fft_planner", "conventions") if k in first.attrs}
     attrs.update(sweep_keys=json.dumps(keys), sweep_digest=digest,
                  scene=json.dumps(raw, default=str), spectralbem_version=version,
                  created_utc=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
-    res.attrs.update({k: v for k, v in attrs.items() if isinstance(v, (str, int, float))})
+    # numbers as read back from a point's file are numpy scalars (fft_threads: np.int64)
+    res.attrs.update({k: v.item() if isinstance(v, np.generic) else v for k, v in attrs.items()
+                      if isinstance(v, (str, int, float, np.integer, np.floating))})
     return cf_attributes(res, history=history)
 
 

@@ -189,6 +189,11 @@ def test_sweep_dataset_records_the_scene_as_run_and_the_command(tmp_path):
     assert "spectralbem sweep test" in ds.attrs["history"]
     parts = Path(str(out) + ".parts")
     assert told == [(0, 2, parts)]  # on_parts: kept from earlier runs, to solve, the folder
+    # the run's FFT attributes, as a point's file has them (fft_threads, read back as a numpy
+    # integer, was dropped, and fft_planner not copied)
+    point = read_dataset(parts / "point_00000.nc")
+    for k in ("fft_backend", "fft_threads", "fft_planner"):
+        assert ds.attrs[k] == point.attrs[k], k
     run_sweep(CASE, [("zeta", [0.1, 1.0])], out, overrides={"sinusoid.Gamma": 0.05},
               progress=False, on_parts=lambda *a: told.append(a))
     assert told[1] == (2, 0, parts)

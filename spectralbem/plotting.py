@@ -150,6 +150,8 @@ def plot_sweep(ds):
     import json
 
     keys = json.loads(ds.attrs["sweep_keys"])
+    # drawn in the order of the swept values (a sweep keeps the order given: 10, 0.1, 1)
+    ds = ds.sortby([d for d in ds.dims if d != "step" and d in ds.coords])
     dim = list(ds[list(ds.data_vars)[0]].dims)[0]
     unit = ds[dim].attrs.get("units", "1")
     label = f"{keys[0]}" + (f" ({unit})" if unit not in ("1", "") else "")

@@ -184,6 +184,14 @@ def test_sweep_plot(tmp_path):
     assert {ax.get_ylabel() for ax in fig.axes} >= {"ã", "ẽ", "G1/Δγ", "G2/Δγ", "μ/Λ̃"}
     assert fig.axes[0].get_legend() is not None
     assert (tmp_path / "s.png").stat().st_size > 10_000
+    # swept values given out of order (a sweep keeps the order given) are drawn in order,
+    # each value with its own point (the curves zigzagged)
+    shuffled = ds.isel(zeta=[3, 0, 2, 1], p_tilde=[1, 0])
+    fig = plot_dataset(shuffled, tmp_path / "u.png")
+    for line, p in zip(fig.axes[0].get_lines()[:2], [0.05, 0.15], strict=True):
+        x, y = line.get_data()
+        assert list(x) == [1e-3, 1e-2, 1e-1, 1.0]
+        np.testing.assert_array_equal(y, ds["a_tilde"].sel(p_tilde=p).values)
 
 
 def test_cli_run_plot_help_and_errors(tmp_path, capsys):

@@ -392,15 +392,17 @@ def run_sweep(scene_file, over: list, out, *, overrides: dict | None = None,
     out = Path(out).absolute()  # workers may run in another working directory
     raw = read_scene_file(scene_file)
     base = Path(scene_file).resolve().parent
-    keys = [resolve_key(raw, k) for k, _ in over]
+    # the scene as run, the swept keys at their base: its sections (a layer --set gives)
+    # name the bare keys and their types
+    spec = apply_overrides(raw, overrides)
+    keys = [resolve_key(spec, k) for k, _ in over]
     _check_axes(keys, over, workers)
     names = [k.split(".")[-1] for k in keys]
     if len(set(names)) != len(names):
         names = [k.replace(".", "_") for k in keys]
-    grids = [[_typed(raw, k, x) for x in v] for k, (_, v) in zip(keys, over, strict=True)]
+    grids = [[_typed(spec, k, x) for x in v] for k, (_, v) in zip(keys, over, strict=True)]
     points = [dict(zip(keys, combo, strict=True)) for combo in itertools.product(*grids)]
     # validate every point before any heavy work, with its plausibility warnings
-    spec = apply_overrides(raw, overrides)  # the scene as run, the swept keys at their base
     problems, implausible = [], {}
     for i, pt in enumerate(points):
         try:

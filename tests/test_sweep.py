@@ -53,6 +53,17 @@ def test_swept_values_are_each_given_once_and_whole_numbers_stay_exact(tmp_path)
     assert sweep._typed({"sinusoid": {}}, "sinusoid.zeta", 1) == 1.0
 
 
+def test_bare_swept_keys_are_looked_up_in_the_scene_as_set(tmp_path):
+    """A bare ``--over`` key of a section that ``--set`` adds (a layer on a half-space
+    scene) is that section's key ("not a key of this scene" before): the points are
+    validated as layer.thickness (the second refused by its range, before any solve)."""
+    jkr = CASE.parent / "jkr_sphere.toml"
+    with pytest.raises(SceneError, match=r"point 1 .*layer.thickness"):
+        run_sweep(jkr, [("thickness", [1e-4, -1.0])], tmp_path / "l.nc", progress=False,
+                  overrides={"layer.kind": "glued", "layer.thickness": 1e-4})
+    assert not (tmp_path / "l.nc.parts").exists()
+
+
 def reference(zetas):
     """The uninterrupted result, solved point by point in this process."""
     out = []

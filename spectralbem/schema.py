@@ -149,7 +149,8 @@ SECTIONS = {
                   default=1e-10),
         "max_iterations": _k("integer", "iteration guard of the contact solver (Polonsky–Keer "
                              "iterations; Newton or active-set steps of a viscoelastic slab, "
-                             "200 at most)", "", 1, 10**6,
+                             "200 at most); in an adhesive scene, of its adhesiveless start "
+                             "(the front iteration's guard is max_outer)", "", 1, 10**6,
                              default=10000),
         "max_outer": _k("integer", "iteration guard of the adhesive front iteration", "", 1,
                         10**5, default=500),

@@ -244,14 +244,15 @@ def _adhesiveless_mask(op, scene: Scene):
     from .contact import solve_contact
 
     h = scene.heights
+    guard = scene.solver["max_iterations"]
     if scene.penetration is not None:
         if scene.penetration <= 0:
             return None
-        res = solve_contact(op, h, penetration=scene.penetration, tol=1e-6)
+        res = solve_contact(op, h, penetration=scene.penetration, tol=1e-6, maxiter=guard)
     else:
         p = abs(scene.mean_pressure) or 1e-4 * scene.material.E0 * float(np.std(h)) / max(
             scene.cell.Lx, scene.cell.Ly)
-        res = solve_contact(op, h, mean_pressure=p, tol=1e-6)
+        res = solve_contact(op, h, mean_pressure=p, tol=1e-6, maxiter=guard)
     return res.contact if res.contact.any() and not res.contact.all() else None
 
 

@@ -626,3 +626,20 @@ def test_reversed_sliding_mirrors_the_1d_fields_and_keeps_the_eccentricity():
         "sinusoid.cells_per_wavelength": 1024, "sinusoid.direction_deg": d})).e_tilde.item()
         for d in (0.0, 180.0)]
     assert e[0] < 0 and e[1] == pytest.approx(e[0], abs=1e-10)
+
+
+def test_max_iterations_guards_the_adhesiveless_start_of_an_adhesive_scene(monkeypatch):
+    """``solver.max_iterations`` of an adhesive scene is the guard of its adhesiveless start
+    (it had no effect at all there); the front iteration's is ``max_outer``."""
+    import spectralbem.contact as contact
+
+    seen, real = [], contact.solve_contact
+
+    def spy(*a, **kw):
+        seen.append(kw.get("maxiter"))
+        return real(*a, **kw)
+
+    monkeypatch.setattr(contact, "solve_contact", spy)
+    sb.solve(load_scene(CASES / "jkr_sphere.toml", overrides={
+        "grid.Nx": 32, "grid.Ny": 32, "adhesion.a0": 6.25e-5, "solver.max_iterations": 7}))
+    assert seen and set(seen) == {7}

@@ -410,18 +410,48 @@ def _close_bars() -> None:
         bar.close()
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM (a batch system's time limit, ``kill``) taken as Ctrl-C is: a load path keeps
+    its finished steps, a sweep its finished points, a refinement its finished grids."""
+
+
+#: the SIGTERMs received during the command (a command that keeps its work returns 130)
+_TERMINATED: list = []
+
+
+def _terminate(signum, frame):
+    _TERMINATED.append(signum)
+    raise Terminated(f"terminated by signal {signum}")
+
+
+#: exit status after SIGTERM, as a shell reports a process ended by it (128 + 15)
+SIGTERM_EXIT = 143
+
+
 def main(argv=None) -> int:
+    import signal
+    import threading
+
     args = build_parser().parse_args(argv)
     args.argv = list(sys.argv[1:] if argv is None else argv)
+    main_thread = threading.current_thread() is threading.main_thread()
+    old = signal.signal(signal.SIGTERM, _terminate) if main_thread else None
+    _TERMINATED.clear()
     try:
-        return args.func(args)
+        rc = args.func(args)
     except KeyboardInterrupt:
         _close_bars()
-        print(f"spectralbem {args.command}: interrupted", file=sys.stderr)
-        return 130
+        print(f"spectralbem {args.command}: "
+              f"{'terminated (SIGTERM)' if _TERMINATED else 'interrupted'}", file=sys.stderr)
+        rc = 130
     except Exception as exc:  # a one-line reason (scene problems: one per line), non-zero exit
         print(f"spectralbem {args.command}: error: {exc}", file=sys.stderr)
-        return 1
+        rc = 1
+    finally:
+        if main_thread:
+            signal.signal(signal.SIGTERM, old)
+    # a command that kept its finished work on SIGTERM returned 130, as on Ctrl-C
+    return SIGTERM_EXIT if rc == 130 and _TERMINATED else rc
 
 
 if __name__ == "__main__":

@@ -659,6 +659,34 @@ def test_interrupted_path_keeps_its_finished_steps(tmp_path, monkeypatch, capsys
     assert "history" in ds.attrs
 
 
+def test_sigterm_on_a_path_keeps_its_finished_steps(tmp_path, monkeypatch, capsys):
+    """SIGTERM (a batch system's time limit) during the third step of a load path: `run`
+    writes the two finished steps as on Ctrl-C and exits 143 (it died with nothing written),
+    and the process's own SIGTERM handler is back afterwards."""
+    import os
+    import signal
+
+    from spectralbem import solving
+    from spectralbem.io import read_dataset
+
+    def fake(scene, state, progress=None):
+        p = scene.mean_pressure
+        if p == 5e2:
+            os.kill(os.getpid(), signal.SIGTERM)
+        ds = xr.Dataset({"status": ((), "partial"), "mean_pressure": ((), p)})
+        ds.attrs["solver_message"] = "fake"
+        return ds, None
+
+    monkeypatch.setattr(solving, "_solve_one", fake)
+    before = signal.getsignal(signal.SIGTERM)
+    case = Path(__file__).resolve().parent.parent / "cases" / "jkr_sphere.toml"
+    out = tmp_path / "path.nc"
+    assert cli.main(["run", str(case), "-o", str(out), "-q"]) == 143
+    assert "2 of 5 path steps finished" in capsys.readouterr().err
+    assert list(read_dataset(out).control_value.values) == [1e3, 2e3]
+    assert signal.getsignal(signal.SIGTERM) is before
+
+
 def test_the_figure_power_spectrum_has_persson_normalisation():
     """The state figure's C(q) integrates to the surface's mean square height, ∫C d²q = ⟨h²⟩
     (Persson's normalisation, the one tribology papers plot; it was (2π)² times that):

@@ -78,6 +78,26 @@ def richardson(values, ratio: float = 2.0) -> tuple:
     return p, finf, [abs(v - finf) / scale for v in vals]
 
 
+def _set_aside_unreadable(parts) -> None:
+    """The finished grids' files that a child process cannot read (a truncated or damaged
+    file can crash netCDF-C, and refused every rerun) are named and moved aside, their grids
+    solved again (as a sweep's points, :func:`spectralbem.sweep_parts._check_parts`)."""
+    from .io import probe_netcdf
+    from .sweep_parts import _set_aside
+
+    present = [p for p in parts if p.exists() or p.is_symlink()]
+    for p in present:
+        if p.is_symlink() or not p.is_file():
+            _set_aside(p, "not a regular file", "grid", "refine")
+    present = [p for p in present if p.exists() and not p.is_symlink()]
+    for p, (info, err) in zip(present, (probe_netcdf(present) if present else {}).values(),
+                              strict=True):
+        if err is None and "status" not in info["variables"]:
+            err = "no status variable"
+        if err is not None:
+            _set_aside(p, err, "grid", "refine")
+
+
 def _raw_of(source):
     from .scenes import read_scene_file
 
@@ -210,6 +230,7 @@ def refine(source, sizes, out, *, overrides: dict | None = None, a0_cells=None,
     parts = out.with_name(out.name + ".parts")
     parts.mkdir(exist_ok=True)
     digest = _digest(raw, overrides, base, a0_cells)
+    _set_aside_unreadable([parts / f"N_{n}.nc" for n in sizes])
     files = []
     for i, (n, scene) in enumerate(zip(sizes, scenes, strict=True)):
         part = parts / f"N_{n}.nc"

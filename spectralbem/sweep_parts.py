@@ -25,8 +25,8 @@ class SweepError(RuntimeError):
     """A sweep could not complete; finished points are kept on disk."""
 
 
-def _say(msg: str) -> None:
-    print(f"spectralbem sweep: {msg}", file=sys.stderr, flush=True)
+def _say(msg: str, command: str = "sweep") -> None:
+    print(f"spectralbem {command}: {msg}", file=sys.stderr, flush=True)
 
 
 class _Lock:
@@ -156,8 +156,9 @@ def _difference(old: dict, head: dict) -> str:
     return f"digest {old.get('digest')} ≠ {head['digest']}: " + "; ".join(why)
 
 
-def _set_aside(path: Path, reason: str) -> None:
-    """Move an unusable point file out of the way (kept for inspection) and say so."""
+def _set_aside(path: Path, reason: str, what: str = "point", command: str = "sweep") -> None:
+    """Move an unusable point file (a refinement's grid: ``what``, ``command``) out of the
+    way, kept for inspection, and say so."""
     target = path.with_name(path.name + ".corrupt")
     k = 1
     while target.exists() or target.is_symlink():
@@ -169,7 +170,7 @@ def _set_aside(path: Path, reason: str) -> None:
     except OSError:
         path.unlink(missing_ok=True)
         where = "removed"
-    _say(f"{path} is unusable ({reason}); {where}, the point is recomputed")
+    _say(f"{path} is unusable ({reason}); {where}, the {what} is recomputed", command)
 
 
 def _check_parts(files: list, manifest: _Manifest, digest: str) -> list:

@@ -1,6 +1,7 @@
 """Grid refinement of a scene (spectralbem.refinement, `spectralbem refine`)."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -119,6 +120,25 @@ def test_refine_resumes_from_its_parts(refined, monkeypatch):
     np.testing.assert_array_equal(again["area_fraction"].values, ds["area_fraction"].values)
     with pytest.raises(SceneError, match="another refinement"):
         refine(ROUGH, SIZES, out, overrides={"material.E": 2e6})
+
+
+def test_refine_sets_a_damaged_grid_aside_and_solves_it_again(refined, tmp_path, capsys):
+    """A truncated grid file in OUT.parts (netCDF: HDF error, refused on every rerun) is
+    named, moved aside and solved again; the other grids are kept; the same dataset."""
+    import shutil
+
+    ds, out, _ = refined
+    copy = tmp_path / out.name
+    shutil.copytree(f"{out}.parts", f"{copy}.parts")
+    part = Path(f"{copy}.parts") / f"N_{SIZES[0]}.nc"
+    part.write_bytes(part.read_bytes()[:3000])
+    told = []
+    again = refine(ROUGH, SIZES, copy, progress=lambda i, n, text: told.append((n, text)))
+    err = capsys.readouterr().err
+    assert f"spectralbem refine: {part} is unusable" in err and "the grid is recomputed" in err
+    assert (part.parent / f"{part.name}.corrupt").is_file()
+    assert (SIZES[0], "solving") in told and (SIZES[1], "kept from an earlier run") in told
+    np.testing.assert_array_equal(again["area_fraction"].values, ds["area_fraction"].values)
 
 
 def test_refine_keeps_the_grids_it_finished(tmp_path, monkeypatch):

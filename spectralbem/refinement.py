@@ -139,8 +139,9 @@ def resolution_overrides(raw: dict, overrides: dict | None, sizes, a0_cells=None
                                 f"a whole number of cells (keep Nx/Ny = {nx0}/{ny0})")
             ov = {**(overrides or {}), "grid.Nx": n, "grid.Ny": int(ny),
                   "output.fields": False}  # scalars only: no field is stored
-            if a0_cells is not None:
-                ov["adhesion.a0"] = a0_cells * min(grid["Lx"] / n, grid["Ly"] / int(ny))
+            if a0_cells is not None:  # a strip's fronts run along y: its cell along x
+                ov["adhesion.a0"] = a0_cells * (grid["Lx"] / n if ny0 <= 2 else
+                                                min(grid["Lx"] / n, grid["Ly"] / int(ny)))
             out.append(ov)
     elif isinstance(sin, dict):
         out = [{**(overrides or {}), "sinusoid.cells_per_wavelength": n,

@@ -206,6 +206,12 @@ def test_seed_scene_refines_cells_per_wavelength_and_strips_keep_ny():
     assert [o["sinusoid.cells_per_wavelength"] for o in ovs] == [100, 200]
     strip = {**ROUGH, "grid": {"Lx": 1e-3, "Ly": 1e-6, "Nx": 64, "Ny": 2}}
     assert [o["grid.Ny"] for o in resolution_overrides(strip, None, [64, 128])] == [2, 2]
+    # --a0-cells on a strip: K cells along x, where its fronts are resolved (it was K times
+    # the smaller cell, here the strip's 0.5 µm across: a0/hx = 0.064, 0.128, not 2)
+    sticky = {**strip, "adhesion": {"dgamma": 0.01, "a0": 3e-5}}
+    ovs = resolution_overrides(sticky, None, [64, 128], a0_cells=2)
+    assert [o["adhesion.a0"] / (1e-3 / n) for o, n in zip(ovs, [64, 128], strict=True)] == [
+        pytest.approx(2.0), pytest.approx(2.0)]
 
 
 def test_cli_refine_and_plot(refined, tmp_path, capsys):

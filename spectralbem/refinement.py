@@ -255,7 +255,13 @@ def refine(source, sizes, out, *, overrides: dict | None = None, a0_cells=None,
         if progress:
             progress(i, n, "done: " + ", ".join(sorted(set(np.atleast_1d(
                 ds["status"].values).astype(str)))))
-    ds = _assemble([read_dataset(f) for f in files], sizes, quantities)
+    rules = _edge_rules(sizes, scenes)
+    ds = _assemble([read_dataset(f) for f in files], sizes, quantities,
+                   mixed=rules is not None)
+    if rules is not None:
+        ds.attrs["refinement_edge_rules"] = rules
+        ds.attrs["scene_note"] = ("scene: the finest grid's; the others differ in N and in "
+                                  "the elastic edge (refinement_edge_rules)")
     ds.attrs.update(refinement_digest=digest,
                     refinement_a0=("fixed (m)" if a0_cells is None else f"{a0_cells:g} × the cell"))
     ds.attrs["wall_time_s"] = time.perf_counter() - t
@@ -264,8 +270,24 @@ def refine(source, sizes, out, *, overrides: dict | None = None, a0_cells=None,
     return ds
 
 
-def _assemble(dss, sizes, quantities):
-    """One Dataset of every grid on ``N``, with the Richardson variables."""
+def _edge_rules(sizes, scenes) -> str | None:
+    """None when every grid's elastic edge follows one rule; else which grids extrapolate
+    it to a0 → 0 (a fixed a0 of one cell at the coarsest grid and two or more at the finer
+    ones: ``solver.extrapolate_a0``'s default, docs/theory.md), whose values then move with
+    the rule as well as with N."""
+    rule = [bool(getattr(sc, "extrapolate_a0", False)) for sc in scenes]
+    if len(set(rule)) < 2:
+        return None
+    by = {r: [str(n) for n, x in zip(sizes, rule, strict=True) if x == r] for r in (False, True)}
+    return (f"N = {', '.join(by[False])}: the a0 tests' edge; N = {', '.join(by[True])}: "
+            "extrapolated to a0 → 0 (no error estimate across two rules: set "
+            "solver.extrapolate_a0 = false, or a0 of two cells or more on every grid, "
+            "--a0-cells 2)")
+
+
+def _assemble(dss, sizes, quantities, mixed: bool = False):
+    """One Dataset of every grid on ``N``, with the Richardson variables (``mixed``: the
+    grids' elastic edges follow two rules, no estimate is made; the changes are kept)."""
     import xarray as xr
 
     ds = xr.concat(dss,
@@ -288,6 +310,8 @@ def _assemble(dss, sizes, quantities):
             continue
         vals = ds[q].where(ok).transpose(..., "N")
         order, limit, error, change = _estimates(vals.values, ratio)
+        if mixed:
+            order[...], limit[...], error[...] = np.nan, np.nan, np.nan
         dims = vals.dims
         units = ds[q].attrs.get("units", "")
         ds[f"{q}_order"] = (dims[:-1], order, {"long_name": f"observed order of {q}",
@@ -371,7 +395,8 @@ def summary(ds, quantities=QUANTITIES) -> str:
                      + ", ".join(f"{n}: {s}" for n, s in zip(sizes, status, strict=True)))
         lines.append(head)
         ok = np.isin(np.asarray(status), VERIFIED)
-        why = ("none (not asymptotic)" if ok[-3:].all() and ok.size >= 3
+        why = ("none (two edge rules)" if "refinement_edge_rules" in ds.attrs
+               else "none (not asymptotic)" if ok[-3:].all() and ok.size >= 3
                else "none (a state not verified)" if ok.size >= 3 else "none (two grids)")
         for q in names:
             v = sel[q].values
@@ -381,6 +406,8 @@ def summary(ds, quantities=QUANTITIES) -> str:
             lines.append(q + "".join(f" | {x:.6g}" for x in v)
                          + f" | {_pct(ch, True)} | {p:.2f} | "
                          + (_pct(err) if math.isfinite(err) else why))
+    if "refinement_edge_rules" in ds.attrs:
+        lines.append("elastic edge: " + str(ds.attrs["refinement_edge_rules"]))
     return "\n".join(lines)
 
 

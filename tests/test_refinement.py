@@ -8,7 +8,7 @@ import pytest
 
 from spectralbem import cli, refinement
 from spectralbem.refinement import refine, resolution_overrides, richardson
-from spectralbem.scenes import load_scene, solve
+from spectralbem.scenes import load_scene, read_scene_file, solve
 from spectralbem.schema import SceneError
 
 #: a rough elastic contact along a two-step path: the same physical surface at every N
@@ -139,6 +139,34 @@ def test_refine_sets_a_damaged_grid_aside_and_solves_it_again(refined, tmp_path,
     assert (part.parent / f"{part.name}.corrupt").is_file()
     assert (SIZES[0], "solving") in told and (SIZES[1], "kept from an earlier run") in told
     np.testing.assert_array_equal(again["area_fraction"].values, ds["area_fraction"].values)
+
+
+def test_grids_solved_with_two_elastic_edge_rules_get_no_estimate(refined):
+    """A fixed a0 of one cell at the coarsest grid and two or more at the finer ones: the
+    elastic edge is extrapolated to a0 → 0 on the finer grids only (its default), so the
+    values move with the rule as well as with N: the refinement says which grids follow
+    which rule and claims no order or error (it said "the others differ in N only")."""
+    from spectralbem.io import read_dataset
+
+    jkr = Path(__file__).resolve().parent.parent / "cases" / "jkr_sphere.toml"
+    raw = read_scene_file(jkr)
+    sizes = [32, 64, 128]
+    a0 = raw["grid"]["Lx"] / 32  # 1, 2, 4 cells
+    scenes = [load_scene(raw, overrides=ov, base_dir=jkr.parent) for ov in
+              resolution_overrides(raw, {"adhesion.a0": a0}, sizes)]
+    rules = refinement._edge_rules(sizes, scenes)
+    assert rules.startswith("N = 32: the a0 tests' edge; N = 64, 128: extrapolated")
+    scaled = [load_scene(raw, overrides=ov, base_dir=jkr.parent) for ov in
+              resolution_overrides(raw, None, sizes, a0_cells=2)]
+    assert refinement._edge_rules(sizes, scaled) is None
+    ds, out, _ = refined
+    parts = [read_dataset(Path(f"{out}.parts") / f"N_{n}.nc") for n in SIZES]
+    mixed = refinement._assemble(parts, SIZES, refinement.QUANTITIES, mixed=True)
+    assert np.isnan(mixed["area_fraction_order"].values).all()
+    assert np.isnan(mixed["area_fraction_error"].values).all()
+    np.testing.assert_array_equal(mixed["area_fraction_change"].values,
+                                  ds["area_fraction_change"].values)
+    assert not np.isnan(ds["area_fraction_error"].values).all()
 
 
 def test_refine_keeps_the_grids_it_finished(tmp_path, monkeypatch):

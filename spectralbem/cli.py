@@ -226,17 +226,18 @@ def _unverified(path) -> tuple:
 
 
 def _refine(args) -> int:
-    from .plausibility import PlausibilityWarning
+    from .plausibility import PlausibilityWarning, state_warnings
     from .refinement import VERIFIED, refine, resolution_overrides, summary
     from .scenes import load_scene, read_scene_file
+    from .schema import SceneError
 
     out = Path(args.output)
     _check_output(out, _inputs(args.scene, _overrides(args.set)), DATASET_SUFFIXES,
                   DATASET_HINT)
     ov = _overrides(args.set)
-    finest = resolution_overrides(read_scene_file(args.scene), ov, args.sizes, args.a0_cells,
-                                  Path(args.scene).resolve().parent)[-1]
-    _plausible(load_scene(args.scene, overrides=finest), args.strict)
+    per_size = resolution_overrides(read_scene_file(args.scene), ov, args.sizes,
+                                    args.a0_cells, Path(args.scene).resolve().parent)
+    _plausible(load_scene(args.scene, overrides=per_size[-1]), args.strict)
 
     def tell(i, n, text):
         if not args.quiet:
@@ -253,6 +254,13 @@ def _refine(args) -> int:
         print(f"spectralbem refine: interrupted: {kept} grid(s) kept in {parts}; rerun the "
               "same command to resume", file=sys.stderr)
         return 130
+    late = [f"N = {n}: {m}" for n, o in zip(sorted(args.sizes), per_size, strict=True)
+            for m in state_warnings(load_scene(args.scene, overrides=o), ds.sel(N=n))]
+    if late and args.strict:  # known only after the solves; the dataset is kept
+        raise SceneError([f"implausible (--strict, dataset written to {out}): " + m
+                          for m in late])
+    for m in late:
+        print(f"warning: {m}", file=sys.stderr)
     print(summary(ds))
     print(f"refinement of {Path(args.scene).name} over N = "
           f"{', '.join(str(int(n)) for n in ds['N'].values)} in "

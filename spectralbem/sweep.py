@@ -40,6 +40,7 @@ import tempfile
 import uuid
 import warnings
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 from distributed.diagnostics.plugin import WorkerPlugin
@@ -52,7 +53,7 @@ from .io import (
     sha256_file,
     write_dataset,
 )
-from .plausibility import scene_warnings
+from .plausibility import scene_warnings, state_warnings
 from .scenes import apply_overrides, load_scene, read_scene_file
 from .schema import SceneError, input_paths, section_keys
 from .sweep_parts import (  # noqa: F401  (SweepError is part of this module's interface)
@@ -403,7 +404,7 @@ def run_sweep(scene_file, over: list, out, *, overrides: dict | None = None,
     grids = [[_typed(spec, k, x) for x in v] for k, (_, v) in zip(keys, over, strict=True)]
     points = [dict(zip(keys, combo, strict=True)) for combo in itertools.product(*grids)]
     # validate every point before any heavy work, with its plausibility warnings
-    problems, implausible = [], {}
+    problems, implausible, kinds = [], {}, []
     for i, pt in enumerate(points):
         try:
             scene = load_scene(spec, overrides=pt, base_dir=base)
@@ -412,6 +413,9 @@ def run_sweep(scene_file, over: list, out, *, overrides: dict | None = None,
             continue
         for m in scene_warnings(scene):
             implausible.setdefault(m, i)
+        # what the warnings after the solve read of a point's scene (not its heights)
+        kinds.append(SimpleNamespace(adhesive=scene.adhesive, a0=getattr(scene, "a0", None),
+                                     viscoelastic=scene.viscoelastic))
     if problems:
         raise SceneError(problems)
     if implausible and strict:
@@ -448,12 +452,35 @@ def run_sweep(scene_file, over: list, out, *, overrides: dict | None = None,
                 _compute(todo, allpt, raw, base, digest, files, manifest, points, parts,
                          scheduler, workers, progress, retries, dashboard)
             res = _assemble(files, names, keys, grids, spec, digest, __version__, history)
-            return write_dataset(res, out)
+            path = write_dataset(res, out)
+            _late_warnings(res, kinds, len(names), path, strict, on_warning)
+            return path
         except KeyboardInterrupt as exc:
             if isinstance(exc, SweepInterrupted):
                 raise
             kept = sum(f.is_file() for f in files)
             raise SweepInterrupted(kept, len(points)) from None
+
+
+def _late_warnings(res, kinds, nswept, path, strict, on_warning) -> None:
+    """The plausibility warnings known only after the solves (:func:`state_warnings`: a0
+    against the small contact patches found), each point's: reported once, the first point
+    named with the number of others; with ``strict`` the sweep fails on them (its dataset
+    written, as ``run --strict`` keeps its)."""
+    if "small_patch_diameter" not in res:
+        return
+    import xarray as xr
+
+    d = np.asarray(res["small_patch_diameter"].values, float).reshape(len(kinds), -1)
+    found = [(i, m) for i, sc in enumerate(kinds) for m in state_warnings(
+        sc, xr.Dataset({"small_patch_diameter": ("step", d[i])}))]
+    if not found:
+        return
+    i, m = found[0]
+    text = f"point {i}" + (f" (and {len(found) - 1} more)" if len(found) > 1 else "")
+    if strict:
+        raise SceneError([f"implausible (--strict, dataset written to {path}), {text}: {m}"])
+    (on_warning or warnings.warn)(f"{text}: {m}")
 
 
 def _compute(todo, allpt, raw, base, digest, files, manifest, points, parts, scheduler,

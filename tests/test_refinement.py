@@ -402,3 +402,20 @@ def test_summary_says_why_there_is_no_estimate(refined):
     first = text.split("step 1:")[0]
     assert "none (a state not verified)" in first and "64: not_converged" in first
     assert np.isnan(bad["area_fraction_limit"].isel(step=0))
+
+
+def test_refine_reports_the_warnings_known_after_its_solves(tmp_path, capsys):
+    """Each grid's plausibility warning known only after its solve (a0 against the small
+    contact patches) is printed by `refine`, and fails it with --strict once the dataset is
+    written (they were dropped: every grid counted as fine)."""
+    jkr = Path(__file__).resolve().parent.parent / "cases" / "jkr_sphere.toml"
+    out = tmp_path / "w.nc"
+    argv = ["refine", str(jkr), "--sizes", "32", "64", "--a0-cells", "2", "-o", str(out),
+            "-q", "--set", "control.mean_pressure=1000"]
+    assert cli.main(argv) == 0
+    err = capsys.readouterr().err
+    assert "warning: N = 32: adhesion.a0:" in err and "small contact patches" in err
+    assert cli.main([*argv, "--strict"]) == 1
+    err = capsys.readouterr().err
+    assert f"implausible (--strict, dataset written to {out}): N = 32" in err
+    assert out.is_file()

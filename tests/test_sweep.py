@@ -237,3 +237,22 @@ def test_strict_sweep_checks_every_point(tmp_path):
         run_sweep(rough, [("motion.speed", [1e-6, 1e-2])], tmp_path / "s.nc", overrides=ov,
                   strict=True, progress=False)
     assert not (tmp_path / "s.nc.parts").exists()  # refused before any work
+
+
+def test_warnings_known_after_the_solves_reach_a_sweep(tmp_path):
+    """The plausibility warning that only a solve can give (a0 against the small contact
+    patches it found) is reported by a sweep as by `run`, and fails it with ``strict`` once
+    its dataset is written (a worker's warnings were dropped: `sweep --strict` passed where
+    `run --strict` failed on the same scene)."""
+    jkr = CASE.parent / "jkr_sphere.toml"
+    ov = {"grid.Nx": 64, "grid.Ny": 64, "adhesion.a0": 3.125e-5,
+          "control.mean_pressure": [1e3, 5e2]}
+    told = []
+    path = run_sweep(jkr, [("dgamma", [0.05, 0.06])], tmp_path / "w.nc", overrides=ov,
+                     workers=1, progress=False, on_warning=told.append)
+    assert len(told) == 1 and told[0].startswith("point 0 (and 1 more): adhesion.a0: ")
+    assert "small contact patches" in told[0]
+    with pytest.raises(SceneError, match=r"implausible \(--strict, dataset written to "):
+        run_sweep(jkr, [("dgamma", [0.05, 0.06])], tmp_path / "w.nc", overrides=ov,
+                  workers=1, progress=False, strict=True)
+    assert Path(path).is_file()

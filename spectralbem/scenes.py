@@ -36,6 +36,7 @@ from .materials import Elastic, Material, MaterialError, StandardLinearSolid
 from .schema import (
     SECTIONS,
     SceneError,
+    input_paths,
     short,
     short_name,
     too_deep,
@@ -520,6 +521,10 @@ def _one_d_ranges(scene: Scene) -> list:
 
 def _build_physical(spec: dict, base: Path) -> Scene:
     problems: list[str] = []
+    # the files it reads by their absolute paths, so that the dataset's scene reruns as it is
+    for dotted, path in input_paths(spec, base).items():
+        sec, key = dotted.split(".")
+        spec = {**spec, sec: {**spec[sec], key: str(Path(os.path.abspath(path)))}}
     g = spec["grid"]
     try:
         cell = Cell(g["Lx"], g["Ly"], g["Nx"], g["Ny"])

@@ -201,6 +201,20 @@ def _spec_as_solved(scene: Scene) -> dict:
     return _without_none(spec)
 
 
+def _input_checksums(scene: Scene) -> dict:
+    """``scene_inputs``: the SHA-256 of each file the scene read (its ``scene`` attribute
+    names them by absolute path), so that a rerun from the dataset can tell a changed file;
+    nothing for a scene that reads none."""
+    from .io import sha256_file
+    from .schema import input_paths
+
+    files = input_paths(scene.spec, "/")
+    if not files:
+        return {}
+    return {"scene_inputs": json.dumps({k: sha256_file(p) if p.is_file() else "missing"
+                                        for k, p in files.items()}, sort_keys=True)}
+
+
 def _without_none(d):
     """A copy of the nested mapping ``d`` without its None values."""
     if not isinstance(d, dict):
@@ -599,6 +613,7 @@ def solve(scene: Scene, *, mask0=None, progress: bool = False):
         fft_backend=fft.backend(), fft_threads=int(scene.solver["threads"]),
         fft_planner=fft.planner() if fft.backend() == "pyfftw" else "numpy",
         scene=json.dumps(_spec_as_solved(scene), sort_keys=True, default=str),
+        **_input_checksums(scene),
         conventions=("spectralbem.conventions: "
                      + ("the seed's dimensionless units (k = Λ = E0* = τ = 1)"
                         if scene.kind == "sinusoid" else "SI units")

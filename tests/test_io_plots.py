@@ -705,3 +705,32 @@ def test_the_figure_power_spectrum_has_persson_normalisation():
     q1, C1 = _spectrum(lam * np.cos(2 * np.pi * 3 * x / (nx * hx))[:, None] * np.ones(ny),
                        hx, hy)
     assert C1.max() == pytest.approx(lam**2 * area / (4 * (2 * np.pi) ** 2), rel=1e-12)
+
+
+def test_a_height_map_run_reruns_from_its_dataset(tmp_path, monkeypatch):
+    """The dataset of a scene that reads a height map names it by absolute path, with its
+    SHA-256 (``scene_inputs``): a rerun from the dataset's ``scene`` attribute alone, from
+    another folder, gives the same data (the relative path did not resolve there)."""
+    import hashlib
+    import json
+
+    from spectralbem.io import read_dataset
+
+    h = 1e-6 * np.random.default_rng(3).standard_normal((16, 16))
+    folder = tmp_path / "scene"
+    folder.mkdir()
+    np.save(folder / "h.npy", h)
+    (folder / "s.toml").write_text(
+        '[grid]\nLx = 1e-3\nLy = 1e-3\n[surface]\nkind = "file"\npath = "h.npy"\n'
+        '[material]\nkind = "elastic"\nE = 1e6\n[control]\nmean_pressure = 1e3\n')
+    out = tmp_path / "r.nc"
+    assert cli.main(["run", str(folder / "s.toml"), "-o", str(out), "-q"]) == 0
+    ds = read_dataset(out)
+    spec = json.loads(ds.attrs["scene"])
+    assert spec["surface"]["path"] == str(folder / "h.npy")
+    sha = hashlib.sha256((folder / "h.npy").read_bytes()).hexdigest()
+    assert json.loads(ds.attrs["scene_inputs"]) == {"surface.path": sha}
+    monkeypatch.chdir(tmp_path)
+    again = sb.solve(load_scene(spec, base_dir=tmp_path / "elsewhere"))
+    for v in ("area_fraction", "mean_pressure", "penetration"):
+        np.testing.assert_array_equal(again[v].values, ds[v].values)

@@ -241,7 +241,7 @@ def test_extrapolate_a0_default_where_a0_is_numerical():
 
 def test_path_step_that_fails_is_retried_in_sub_steps(monkeypatch):
     """A path step of an adhesive grid scene that ends not_converged from a partial state is
-    solved again from that state, each failing step halved (solving.SUBSTEP_HALVINGS = 3
+    solved again from that state, each failing step halved (load_path.SUBSTEP_HALVINGS = 3
     times at most); the state reached is marked with the number of steps, a failure at the
     smallest step keeps the direct step's state and says so.  The step solver is a stand-in
     that converges only for load changes of at most ``limit`` and records its calls."""
@@ -340,8 +340,8 @@ def test_unloading_toward_the_pull_off_stays_on_the_branch(monkeypatch):
     from −200 Pa)."""
     from pathlib import Path
 
+    from spectralbem import load_path
     from spectralbem import reference as ref
-    from spectralbem import solving
 
     case = Path(__file__).parents[1] / "cases" / "jkr_sphere.toml"
     scene = load_scene(case, overrides={"control.mean_pressure": [-150.0, -230.0]})
@@ -350,7 +350,7 @@ def test_unloading_toward_the_pull_off_stays_on_the_branch(monkeypatch):
     assert list(ds.status.values) == ["partial", "partial"]
     radius = np.sqrt(float(ds.area_fraction.values[1]) * 1e-6 / np.pi)
     assert radius == pytest.approx(a_jkr, rel=0.05)
-    monkeypatch.setattr(solving, "SUBSTEP_HALVINGS", 0)
+    monkeypatch.setattr(load_path, "SUBSTEP_HALVINGS", 0)
     assert list(sb.solve(scene).status.values) == ["partial", "detached"]
 
 

@@ -292,8 +292,9 @@ class Tabulated(Material):
         lw = np.log(np.asarray(self.omega))
         s = np.asarray(self.storage)
         l_ = np.asarray(self.loss)
-        with np.errstate(divide="ignore"):
-            x = np.log(np.where(w > 0, w, 1.0))
+        # ω = 0 (the modes that do not slide, q·v = 0) is the relaxed plateau below the table:
+        # the first row (it was read at 1 rad/s, E' there: 5× too stiff on a table spanning it)
+        x = np.log(np.where(w > 0, w, self.omega[0]))
         Es = np.exp(np.interp(x, lw, np.log(s)))
         pos = l_ > 0
         if np.all(pos):
@@ -379,8 +380,8 @@ def _register() -> None:
              {"E0": key("number", "relaxed (low-frequency) modulus E0", "Pa", *MODULUS),
               "Einf": key("number", "glassy (high-frequency) modulus E∞, in [E0, 1e8 E0]", "Pa",
                           *MODULUS),
-              "tau": key("number", "relaxation time τ of the creep function, Eq. (14)", "s",
-                         *TIME),
+              "tau": key("number", "retardation (creep) time τ of the creep function, "
+                         "Eq. (14); the relaxation time is τ/β = τ E0/E∞", "s", *TIME),
               "nu": nu()},
              lambda m, context: StandardLinearSolid(m["E0"], m["Einf"], m["tau"], m["nu"]),
              _check_sls)

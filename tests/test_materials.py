@@ -80,6 +80,12 @@ def test_tabulated_reproduces_sls_loglog(tmp_path):
     np.testing.assert_allclose(t.modulus(wq), SLS.modulus(wq), rtol=1e-3)
     assert t.modulus(np.array([0.0]))[0].imag == 0.0
     np.testing.assert_allclose(t.modulus(-wq), np.conj(t.modulus(wq)))
+    # ω = 0, every mode that does not slide (q·v = 0), is the relaxed plateau: E0 of the SLS
+    # to the table's 1e-3 (it was E' at 1 rad/s, 5 times E0 on a table spanning 1 rad/s)
+    e0 = t.modulus(np.array([0.0]))[0]
+    assert e0 == pytest.approx(t.storage[0], rel=1e-12) and e0.imag == 0.0
+    assert e0 == pytest.approx(t.modulus(np.array([1e-9]))[0].real, rel=1e-12)
+    assert abs(e0 / SLS.E0 - 1) < 1e-3
 
 
 def test_tabulated_accepts_measurement_scatter(tmp_path):

@@ -36,6 +36,7 @@ from .materials import Elastic, Material, MaterialError, StandardLinearSolid
 from .schema import (
     SECTIONS,
     SceneError,
+    check_a0_on_grid,
     input_paths,
     short,
     short_name,
@@ -538,6 +539,8 @@ def _build_physical(spec: dict, base: Path) -> Scene:
             problems.append("scene.model: 'sinusoid1d' is not possible: " + "; ".join(why)
                             + " (allowed: auto, grid2d)")
         model = "sinusoid1d" if not why else "grid2d"
+    if model == "grid2d" and spec["scene"]["model"] != "grid2d":
+        check_a0_on_grid(spec, problems)  # 'auto' chose the grid: its a0 against the cells
     adh, ctl = spec["adhesion"], spec["control"]
     name = "mean_pressure" if ctl["mean_pressure"] is not None else "penetration"
     values = ctl[name] if isinstance(ctl[name], list) else [ctl[name]]
@@ -570,6 +573,9 @@ def _build_physical(spec: dict, base: Path) -> Scene:
                               + " (allowed models: auto, grid2d)" for w in why])
         if why:  # 'auto' picks the 1D method only for a scene it can solve
             model = "grid2d"
+            check_a0_on_grid(spec, problems)
+            if problems:
+                raise SceneError(problems)
             _check_memory("grid.Nx × grid.Ny", cell.shape, model=model, **memory)
             scene = dataclasses.replace(scene, model=model)
     if name == "penetration":  # either model: named by its key before any solve

@@ -473,23 +473,36 @@ def _check_physical(out, problems):
         if any(v is not None and v <= 0 for v in vals):
             problems.append(f"control.mean_pressure: {shown(mp)} Pa; without adhesion the mean "
                             "pressure must be > 0 (allowed (0, 1e12])")
+    if (out.get("scene") or {}).get("model", "auto") == "grid2d":
+        check_a0_on_grid(out, problems)  # 'auto': once the model is chosen (scenes)
     if g.get("Lx") and g.get("Nx") and g.get("Ly") and g.get("Ny"):
-        hmin = min(g["Lx"] / g["Nx"], g["Ly"] / g["Ny"])
-        a0 = adh.get("a0")
-        if adhesive and a0 is not None:
-            if a0 < hmin * (1 - 1e-9):
-                problems.append(f"adhesion.a0: {shown(a0)} m is smaller than one cell ({hmin:.4g} "
-                                f"m); allowed [{hmin:.4g}, {0.5 * max(g['Lx'], g['Ly']):.4g}] m")
-            elif a0 > 0.5 * max(g["Lx"], g["Ly"]):
-                problems.append(f"adhesion.a0: {shown(a0)} m is larger than half the cell; allowed "
-                                f"[{hmin:.4g}, {0.5 * max(g['Lx'], g['Ly']):.4g}] m")
-            else:
-                _check_front_tol(out, a0 / hmin, problems)
         fr = adh.get("flaw_radius")
         if adhesive and fr is not None and fr > 0.5 * max(g["Lx"], g["Ly"]):
             # a flaw wider than the cell would open the whole contact at once
             problems.append(f"adhesion.flaw_radius: {shown(fr)} m is larger than half the cell; "
                             f"allowed (0, {0.5 * max(g['Lx'], g['Ly']):.4g}] m")
+
+
+def check_a0_on_grid(out: dict, problems: list) -> None:
+    """adhesion.a0 of an adhesive physical scene solved on the grid: one cell to half the
+    cell's side, and solver.front_tol within what it allows (a scene the 1D method solves
+    has no cells: its a0 is not checked against the grid)."""
+    g, adh = out.get("grid") or {}, out.get("adhesion") or {}
+    adhesive = (adh.get("dgamma") or 0.0) > 0 or adh.get("dgamma_map") is not None
+    a0 = adh.get("a0")
+    if not (adhesive and a0 is not None and g.get("Lx") and g.get("Nx") and g.get("Ly")
+            and g.get("Ny")):
+        return
+    hmin = min(g["Lx"] / g["Nx"], g["Ly"] / g["Ny"])
+    if a0 < hmin * (1 - 1e-9):
+        problems.append(f"adhesion.a0: {shown(a0)} m is smaller than one cell ({hmin:.4g} "
+                        f"m) of the grid model; allowed [{hmin:.4g}, "
+                        f"{0.5 * max(g['Lx'], g['Ly']):.4g}] m")
+    elif a0 > 0.5 * max(g["Lx"], g["Ly"]):
+        problems.append(f"adhesion.a0: {shown(a0)} m is larger than half the cell; allowed "
+                        f"[{hmin:.4g}, {0.5 * max(g['Lx'], g['Ly']):.4g}] m")
+    else:
+        _check_front_tol(out, a0 / hmin, problems)
 
 
 def section_keys(raw: dict, sec: str) -> dict:

@@ -643,3 +643,17 @@ def test_max_iterations_guards_the_adhesiveless_start_of_an_adhesive_scene(monke
     sb.solve(load_scene(CASES / "jkr_sphere.toml", overrides={
         "grid.Nx": 32, "grid.Ny": 32, "adhesion.a0": 6.25e-5, "solver.max_iterations": 7}))
     assert seen and set(seen) == {7}
+
+
+def test_a0_is_checked_against_the_cells_of_the_grid_model_only():
+    """A scene that the 1D method solves has no cells: its a0 is not refused for being
+    smaller than a grid cell it never uses (cases/sinusoid_physical.toml with
+    grid.Nx = 128, a0 0.32 of a cell, was); where 'auto' chooses the grid, or grid2d is
+    given, a0 below one cell is refused before any solve, naming the key."""
+    case = CASES / "sinusoid_physical.toml"
+    sc = load_scene(case, overrides={"grid.Nx": 128})
+    assert sc.model == "sinusoid1d"
+    with pytest.raises(SceneError, match=r"adhesion.a0: .* smaller than one cell .* grid"):
+        load_scene(case, overrides={"grid.Nx": 128, "scene.model": "grid2d"})
+    with pytest.raises(SceneError, match=r"adhesion.a0: .* smaller than one cell .* grid"):
+        load_scene(CASES / "jkr_sphere.toml", overrides={"grid.Nx": 32, "grid.Ny": 32})

@@ -90,8 +90,9 @@ def _set_aside_unreadable(parts) -> None:
         if p.is_symlink() or not p.is_file():
             _set_aside(p, "not a regular file", "grid", "refine")
     present = [p for p in present if p.exists() and not p.is_symlink()]
-    for p, (info, err) in zip(present, (probe_netcdf(present) if present else {}).values(),
-                              strict=True):
+    found = probe_netcdf(present) if present else {}
+    for p in present:
+        info, err = found[str(p)]
         if err is None and "status" not in info["variables"]:
             err = "no status variable"
         if err is not None:

@@ -177,7 +177,8 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "(docs/user_guide.md).", "",
              *resolution_table(runs),
              "![refinement](figures/rough_convergence.png)", "",
-             "The figure: area fraction, μ and the release rates against N (open markers: "
+             "The figure: area fraction, μ, the release rates, μ_a at the path's three states "
+             "and the crack-tip length it is summed over against N (open markers: "
              "states not verified; dashed: the coarse-grid start; stars and crosses: the "
              "elastic edge extrapolated to a0 → 0, `--extrapolate-a0`; the elastic a0 = one cell "
              "row is the scan below; μ's u-form, −Σ p v̂·∇u on the mask, is drawn for "
@@ -356,14 +357,15 @@ def _plot(ax, ns, vals, ok, label, style="-", marker="o", color=None):
 
 
 def figure(runs: list, scans: list, out: Path) -> None:
-    """Area fraction, μ and G1, G2 against N from the JSON (docs/rough_convergence.md)."""
+    """Area fraction, μ, G1, G2, μ_a and the crack-tip length against N from the JSON
+    (docs/rough_convergence.md)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(2, 2, figsize=(10, 7.5))
-    (ae, asls), (amu, ag) = axes
+    fig, axes = plt.subplots(2, 3, figsize=(15, 7.5))
+    (ae, asls, ama), (amu, ag, atip) = axes
     names = {0: "loading 1e4 Pa", 2: "unloading to 1e4 Pa"}
     for k, col in ((0, "C0"), (2, "C3")):
         _plot(ae, *_series(runs, "elastic", k, "area_fraction"), names[k], color=col)
@@ -398,9 +400,20 @@ def figure(runs: list, scans: list, out: Path) -> None:
           "x", "C7")
     _plot(ag, *_series(runs, "sls", 0, "G1"), "G1 (trailing)", color="C0")
     _plot(ag, *_series(runs, "sls", 0, "G2"), "G2 (leading)", color="C1")
+    # μ_a and the crack tips it is summed over, at the three states of the path (the cells
+    # per vτ: 0.5, 1, 2, 4 at 128²-1024²)
+    steps = {0: ("loading 1e4 Pa", "C0"), 1: ("3e4 Pa", "C2"), 2: ("unloading to 1e4 Pa", "C3")}
+    for k, (name, col) in steps.items():
+        _plot(ama, *_series(runs, "sls", k, "mu_adhesive"), name, color=col)
+        _plot(ama, *_series(runs, "sls", k, "mu_adhesive", coarse=True),
+              "coarse-grid start" if k == 0 else "", "--", "s", col)
+        ns, vals, ok = _series(runs, "sls", k, "crack_tip_length")
+        _plot(atip, ns, [1e3 * v for v in vals], ok, name, color=col)
     titles = (f"elastic, a0 = {A0 * 1e6:.2g} µm (and as noted): area fraction",
               f"SLS, a0 = {A0 * 1e6:.2g} µm: area fraction",
-              "SLS, loading: friction coefficient", "SLS, loading: release rates (J/m²)")
+              "SLS: adhesive friction μ_a (vτ = 0.5, 1, 2, 4 cells)",
+              "SLS, loading: friction coefficient", "SLS, loading: release rates (J/m²)",
+              "SLS: crack-tip length (mm), μ_a's support")
     for ax, title in zip(axes.ravel(), titles, strict=True):
         ax.set_xscale("log", base=2)
         ax.set_xlabel("N (cells per side, L = 1 mm)")

@@ -393,11 +393,17 @@ class FrontIteration:
             self.rmax, self.frac = float("inf"), 0.0
         rmax, frac = self.rmax, self.frac
         if (rmax <= front_tol and load_ok) or self.criterion == "predictor":
-            if self.loose and self.it < self.max_outer:  # test it again, band solves exact
+            if self.loose:  # test it again, band solves exact
+                if self.it == self.max_outer:  # no iteration left to: not verified
+                    self.message = (f"not converged in {self.max_outer} outer iterations: "
+                                    f"the front balanced in the band tests at "
+                                    f"{self.band_tol:g}, not yet tested at the state's "
+                                    f"tolerance {self.test_kw['rtol']:g}")
+                    return _BREAK
                 self.loose = False
                 self.tests = self.res_out = None
                 return _NEXT
-            self._converged(new_corr)
+            self._converged(new_corr, load_ok)
             return _BREAK
         moving = add.any() or remove.any()
         if not res_out.any() and not moving:
@@ -432,9 +438,9 @@ class FrontIteration:
         self.opened |= remove
         return _NEXT
 
-    def _converged(self, new_corr) -> None:
+    def _converged(self, new_corr, load_ok: bool = True) -> None:
         front_tol, rmax = self.front_tol, self.rmax
-        self.converged = status_ok = rmax <= front_tol and not self.stale
+        self.converged = status_ok = rmax <= front_tol and not self.stale and load_ok
         self.status = "partial" if status_ok else "not_converged"
         self.message = (f"converged: every resolved front cell balanced within "
                         f"{front_tol:g} cells (largest residual {rmax:.3f})")
@@ -448,11 +454,23 @@ class FrontIteration:
                             f"every other resolved front cell balanced within {front_tol:g} "
                             f"cells (largest residual {rmax:.3f})")
         if self.criterion == "predictor":  # one exact evaluation, no load correction
+            carried = self._front_load()
             self.message = (f"predictor criterion; exact tests of the final mask: "
                             f"{100 * self.frac:.1f} % of the front balanced within "
                             f"{front_tol:g} cells (largest residual {rmax:.3f}); the front "
-                            f"carries {float(self.p.mean()) + new_corr:.6g} Pa of mean "
-                            "pressure")
+                            f"carries {carried:.6g} Pa of mean pressure"
+                            + ("" if load_ok else
+                               f", not the prescribed {self.mean_pressure:.6g} Pa (the "
+                               f"predictor corrects no load: not verified)"))
+
+    def _front_load(self) -> float:
+        """The mean pressure the balanced sub-cell front carries (the mask's where the last
+        tests left no resolved front)."""
+        pm = float(self.p.mean())
+        if self.tests is None or self.res_out is None:
+            return pm
+        return at_front(self.tests, np.where(self.res_out, self.s_out, np.nan),
+                        {"mean_pressure": pm}, self.a0)["mean_pressure"]
 
     def _correct_load(self, new_corr, add, remove) -> str:
         """Balanced on this mask: the front's load correction moves Δ (updated only here,
@@ -495,10 +513,10 @@ class FrontIteration:
         self.moves_to = self.band_starts = self.u = None
         if self.s_out is None:  # the last tests failed: no balanced edge
             self.s_out = self.s_in = np.full(cell.shape, np.nan)
-        pm = float(p.mean())
-        if status == "partial":  # the mean pressure carried by the sub-cell front
-            pm = at_front(self.tests, np.where(self.res_out, self.s_out, np.nan),
-                          {"mean_pressure": pm}, self.a0)["mean_pressure"]
+        # the mean pressure carried by the sub-cell front (the predictor's, verified or not,
+        # is the one its message names)
+        pm = (self._front_load() if status == "partial" or self.criterion == "predictor"
+              else float(p.mean()))
         tips = None
         if status == "partial" and self.tests is not None and self.tests.pending is not None:
             solves = self.tests.solves  # the release rates of the final state's tests

@@ -201,8 +201,8 @@ def _spec_as_solved(scene: Scene) -> dict:
     keys left unset (None) are left out, so that ``load_scene`` of the recorded mapping
     reruns the same scene (it refuses a None)."""
     spec = scene.spec
-    solver = spec.get("solver")
-    if not (solver is None or solver.get("extrapolate_a0") is not None or not scene.adhesive
+    solver = spec.get("solver") or {}  # a seed scene without [solver] decides it too
+    if not (solver.get("extrapolate_a0") is not None or not scene.adhesive
             or scene.model != "grid2d"):
         spec = dict(spec, solver=dict(solver, extrapolate_a0=scene.extrapolate_a0))
     return _without_none(spec)

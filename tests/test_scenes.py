@@ -657,3 +657,15 @@ def test_a0_is_checked_against_the_cells_of_the_grid_model_only():
         load_scene(case, overrides={"grid.Nx": 128, "scene.model": "grid2d"})
     with pytest.raises(SceneError, match=r"adhesion.a0: .* smaller than one cell .* grid"):
         load_scene(CASES / "jkr_sphere.toml", overrides={"grid.Nx": 32, "grid.Ny": 32})
+
+
+def test_a_seed_scene_records_the_edge_rule_it_chose():
+    """A seed grid scene without [solver] records the ``solver.extrapolate_a0`` it decided
+    (on, an elastic sinusoid with a0 of two cells or more; it recorded no solver at all, so
+    that its dataset did not say which edge ran), and reruns to the same state from it."""
+    import json
+
+    ds = sb.solve(load_scene(CASES / "seed_sinusoid_2d.toml", overrides={"sinusoid.zeta": 0.0}))
+    spec = json.loads(ds.attrs["scene"])
+    assert spec["solver"] == {"extrapolate_a0": True}
+    assert float(sb.solve(load_scene(spec)).a_tilde) == float(ds.a_tilde)

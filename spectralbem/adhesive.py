@@ -162,7 +162,11 @@ def solve_adhesive(op: SpectralOperator, heights: np.ndarray, dgamma, a0: float,
                    smoothing_per_radius=smoothing_per_radius, observables=observables)
     run = FrontIteration(op, h, dgamma, a0, penetration, mean_pressure, mask0, test_kw,
                          criterion, front_tol, flaw_radius, extrapolate_a0, band_tol)
-    return run.solve(max_outer, progress)
+    state = run.solve(max_outer, progress)
+    if coarse_start and not coarse.eligible(cell, a0):  # asked for, and not possible here
+        state.message += (f"; solver.coarse_start not used: the grid does not halve into "
+                          f"{coarse.COARSE_MIN} cells per side or more whose cells a0 spans")
+    return state
 
 
 def _coarse_start(op, h, dgamma, a0, penetration, mean_pressure, mask0, kw, progress):

@@ -184,9 +184,11 @@ SECTIONS = {
                              "for the same accuracy, docs/theory.md)", choices=DELAYED,
                              default=DELAYED_DEFAULT),
         "coarse_start": _k("boolean", "adhesive scenes: start the front from the same scene "
-                           "solved on the grid of half the cells per side (recursively; "
-                           "fewer front iterations in elastic scenes and in the rough "
-                           "viscoelastic state at 1024², see docs/performance.md)",
+                           "solved on the grid of half the cells per side (recursively, while "
+                           "it keeps 64 cells per side and a0 spans a coarse cell; the "
+                           "solver's message says when it cannot; fewer front iterations in "
+                           "elastic scenes and in the rough viscoelastic state at 1024², see "
+                           "docs/performance.md)",
                            default=False),
         "extrapolate_a0": _k("boolean", "adhesive elastic 2D scenes with a0 of two cells or "
                              "more: the sharp-crack edge from the tests at a0 and a0/2, "

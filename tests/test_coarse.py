@@ -1,5 +1,6 @@
 """The coarse-grid start of the adhesive solve (spectralbem.coarse)."""
 
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -107,3 +108,21 @@ def test_a_front_tolerance_beyond_the_coarse_band_is_clipped_there():
                          coarse_start=True, front_tol=2.0)
     assert res.status == "partial", res.message
     assert area_radius(op, res, w) == pytest.approx(aJ, rel=0.01)
+
+
+def test_a_coarse_start_that_cannot_be_used_is_said():
+    """``solver.coarse_start`` where the grid does not halve into 64 cells per side whose
+    cells a0 spans (64², or a0 of one cell at 128²): the state is the one of the adhesiveless
+    start, and its message says the option was not used (it was silent, the dataset's scene
+    recording it as on)."""
+    import spectralbem as sb
+    from spectralbem.scenes import load_scene
+
+    case = Path(__file__).resolve().parent.parent / "cases" / "jkr_sphere.toml"
+    ov = {"grid.Nx": 128, "grid.Ny": 128, "adhesion.a0": 7.8125e-6,
+          "control.mean_pressure": 1e3}
+    on = sb.solve(load_scene(case, overrides={**ov, "solver.coarse_start": True}))
+    off = sb.solve(load_scene(case, overrides=ov))
+    assert "solver.coarse_start not used" in on.attrs["solver_message"]
+    assert "coarse_start" not in off.attrs["solver_message"]
+    assert float(on.area_fraction) == float(off.area_fraction)

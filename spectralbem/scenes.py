@@ -387,6 +387,9 @@ def _build_seed(spec: dict) -> Scene:
         _check_penetration(HalfSpace(), mat.nu, sinusoid(cell, 1.0), steps,
                            "sinusoid.delta_tilde")
     extra = {"solver": dict(spec["solver"])} if "solver" in spec else {}
+    if extra and extra["solver"].get("extrapolate_a0"):  # before any solve, as a scene error
+        _check_extrapolation(cell, s["a0_tilde"], model, dict(
+            viscoelastic=s["zeta"] > 0 and s["beta"] > 1, adhesive=s["Gamma"] > 0))
     return Scene(cell, mat, sinusoid(cell, 1.0), (v * np.cos(phi), v * np.sin(phi)),
                  np.pi * s["Gamma"], s["a0_tilde"], p0, d0, "sinusoid", params, None, model,
                  spec, control=(name, steps), **extra)
@@ -590,7 +593,7 @@ def _check_extrapolation(cell: Cell, a0, model: str, memory: dict) -> None:
     if memory["viscoelastic"] or not memory["adhesive"] or model != "grid2d" \
             or not extrapolable(cells):
         raise SceneError([f"solver.extrapolate_a0: true needs an adhesive elastic 2D scene "
-                          f"with adhesion.a0 of at least {EXTRAPOLATE_MIN_CELLS:g} cells (a0 "
+                          f"with a0 of at least {EXTRAPOLATE_MIN_CELLS:g} cells (a0 "
                           f"is numerical there); "
                           f"this one: viscoelastic {memory['viscoelastic']}, adhesive "
                           f"{memory['adhesive']}, model {model}, a0 = {cells:g} cells"])

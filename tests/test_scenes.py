@@ -669,3 +669,13 @@ def test_a_seed_scene_records_the_edge_rule_it_chose():
     spec = json.loads(ds.attrs["scene"])
     assert spec["solver"] == {"extrapolate_a0": True}
     assert float(sb.solve(load_scene(spec)).a_tilde) == float(ds.a_tilde)
+
+
+@pytest.mark.parametrize("overrides", [{}, {"sinusoid.zeta": 0.0, "sinusoid.a0_tilde": 0.004}])
+def test_a_seed_scene_refuses_an_extrapolated_edge_it_cannot_have(overrides):
+    """``solver.extrapolate_a0 = true`` on a seed grid scene that cannot have it (sliding
+    viscoelastic: a0 is physical; elastic with a0 under two cells) is a scene error naming the
+    key, before any solve (the solve's ValueError was the message)."""
+    with pytest.raises(SceneError, match=r"solver.extrapolate_a0: true needs"):
+        load_scene(CASES / "seed_sinusoid_2d.toml",
+                   overrides={**overrides, "solver.extrapolate_a0": True})

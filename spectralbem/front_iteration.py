@@ -152,7 +152,10 @@ class FrontIteration:
             if self._iteration() == _BREAK:
                 break
         else:  # the guard ran out on a nucleation step
-            self.message = f"not converged in {max_outer} outer iterations"
+            self.message = f"not converged in {max_outer} outer iterations" + (
+                f"; at the last front test {100 * self.frac:.1f} % of the resolved front "
+                f"balanced within {self.front_tol:g} cells (largest residual "
+                f"{self.rmax:.3f} cells)" if np.isfinite(self.frac) else "")
         return self._result(progress)
 
     def _line(self) -> str:

@@ -729,3 +729,21 @@ def test_a_state_balanced_only_in_the_loose_tests_is_not_verified():
     assert str(states[3].status.values) == "not_converged"
     assert "not yet tested at the state's tolerance" in states[3].attrs["solver_message"]
     assert str(states[4].status.values) == "partial" and int(states[4].iterations) == 4
+
+
+def test_the_guard_on_a_nucleation_step_says_how_far_the_front_balanced():
+    """A solve stopped by ``max_outer`` on a nucleation step (no front test in that
+    iteration) says how much of the front the last test found balanced (it said only "not
+    converged in 2 outer iterations")."""
+    from pathlib import Path
+
+    from spectralbem.scenes import load_scene
+
+    case = Path(__file__).resolve().parent.parent / "cases" / "rough_convergence.toml"
+    ds = sb.solve(load_scene(case, overrides={
+        "grid.Nx": 128, "grid.Ny": 128, "adhesion.a0": 1.5625e-5, "solver.max_outer": 2,
+        "control.mean_pressure": 1e4}))
+    msg = ds.attrs["solver_message"]
+    assert str(ds.status.values) == "not_converged"
+    assert msg.startswith("not converged in 2 outer iterations; at the last front test ")
+    assert "% of the resolved front balanced within 0.5 cells" in msg

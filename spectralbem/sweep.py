@@ -43,7 +43,7 @@ from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
-from distributed.diagnostics.plugin import WorkerPlugin
+from distributed.diagnostics.plugin import NannyPlugin, WorkerPlugin
 
 from .io import (
     DiskFullError,
@@ -224,6 +224,20 @@ class _IgnoreSigint(WorkerPlugin):
             pass
 
 
+class _NannyIgnoresSigint(NannyPlugin):
+    """The same for the nannies of a local cluster (their workers, restarted after a crash,
+    inherit the ignored SIGINT)."""
+
+    name = "spectralbem-nanny-ignore-sigint"
+    idempotent = True
+
+    def setup(self, nanny):
+        try:
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
+        except ValueError:  # not the main thread of the process
+            pass
+
+
 def _client(scheduler, workers, dashboard=False):
     """(client, cluster or None).  A local cluster listens on 127.0.0.1 only; its dashboard
     is off unless ``dashboard`` (then on 127.0.0.1)."""
@@ -233,11 +247,14 @@ def _client(scheduler, workers, dashboard=False):
     if scheduler:
         return Client(scheduler), None
     n = workers or os.cpu_count() or 1
-    # worker processes inherit an ignored SIGINT (Python then installs no handler in them)
+    # a Ctrl-C while the cluster starts is recorded and stops the sweep once it is up (an
+    # ignored one, inherited by the processes as they start, was lost: the sweep ran to its
+    # end); the nannies and workers then ignore SIGINT (the plugins below)
     main = _main_thread()
     old = signal.getsignal(signal.SIGINT) if main else None
+    pending = []
     if main:
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        signal.signal(signal.SIGINT, lambda signum, frame: pending.append(signum))
     # dask adds the dashboard's fallback page to its global list of HTTP routes in place: a
     # copy without it, so that an earlier cluster of the process cannot turn it on here
     routes = [r for r in dask.config.get("distributed.scheduler.http.routes", [])
@@ -255,12 +272,20 @@ def _client(scheduler, workers, dashboard=False):
                                    scheduler_kwargs={"dashboard": bool(dashboard)},
                                    silence_logs=logging.CRITICAL,
                                    local_directory=tempfile.gettempdir())
+    except Exception:
+        if pending:  # the Ctrl-C reached a starting nanny too
+            raise KeyboardInterrupt from None
+        raise
     finally:
         if main:
             signal.signal(signal.SIGINT, old)
+    if pending:
+        cluster.close()
+        raise KeyboardInterrupt
     try:
         client = Client(cluster)
         client.register_plugin(_IgnoreSigint())
+        client.register_plugin(_NannyIgnoresSigint())
     except BaseException:
         cluster.close()
         raise

@@ -470,3 +470,35 @@ def test_two_sweeps_of_one_scene_have_their_own_task_keys(tmp_path, scheduler, m
     assert len(keys) == 4 and len(set(keys)) == 4, keys
     xr.testing.assert_identical(read_dataset(tmp_path / "a.nc").drop_attrs(),
                                 read_dataset(tmp_path / "b.nc").drop_attrs())
+
+
+def _children(pid: int) -> list:
+    """The processes whose parent is ``pid`` (from /proc)."""
+    out = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[1]) == pid:
+            out.append(int(stat.parent.name))
+    return out
+
+
+def test_ctrl_c_while_the_local_cluster_starts_stops_the_sweep(tmp_path):
+    """Ctrl-C to the sweep driver while its local cluster starts (its first child process
+    exists, no point is solved yet): the sweep stops with its one line and exit 130 (the
+    driver ignored SIGINT during the start-up, so that the workers would inherit the
+    ignore, and the sweep ran to its end with exit 0)."""
+    out = tmp_path / "s.nc"
+    cmd = [sys.executable, "-m", "spectralbem.cli", "sweep", str(SEED1D), "--over",
+           "zeta=0.1,0.2,0.3,0.4,0.5,0.6", "-o", str(out), "--workers", "2", "-q"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    t0 = time.time()
+    while not _children(proc.pid) and proc.poll() is None and time.time() - t0 < 60:
+        time.sleep(0.02)
+    os.kill(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert err.splitlines()[-1].startswith("spectralbem sweep: interrupted"), err
+    assert not out.exists()

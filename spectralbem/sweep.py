@@ -218,10 +218,7 @@ class _IgnoreSigint(WorkerPlugin):
     idempotent = True
 
     def setup(self, worker):
-        try:
-            signal.signal(signal.SIGINT, signal.SIG_IGN)
-        except ValueError:  # not the main thread of the process
-            pass
+        _ignore_sigint()
 
 
 class _NannyIgnoresSigint(NannyPlugin):
@@ -232,10 +229,15 @@ class _NannyIgnoresSigint(NannyPlugin):
     idempotent = True
 
     def setup(self, nanny):
-        try:
-            signal.signal(signal.SIGINT, signal.SIG_IGN)
-        except ValueError:  # not the main thread of the process
-            pass
+        _ignore_sigint()
+
+
+def _ignore_sigint() -> None:
+    """SIGINT ignored in this process (a cluster's worker or nanny)."""
+    try:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+    except ValueError:  # not the main thread of the process
+        pass
 
 
 def _client(scheduler, workers, dashboard=False):

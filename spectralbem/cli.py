@@ -232,9 +232,8 @@ def _refine(args) -> int:
     from .schema import SceneError
 
     out = Path(args.output)
-    _check_output(out, _inputs(args.scene, _overrides(args.set)), DATASET_SUFFIXES,
-                  DATASET_HINT)
     ov = _overrides(args.set)
+    _check_output(out, _inputs(args.scene, ov), DATASET_SUFFIXES, DATASET_HINT)
     per_size = resolution_overrides(read_scene_file(args.scene), ov, args.sizes,
                                     args.a0_cells, Path(args.scene).resolve().parent)
     _plausible(load_scene(args.scene, overrides=per_size[-1]), args.strict)

@@ -406,7 +406,7 @@ class FrontIteration:
                 self.loose = False
                 self.tests = self.res_out = None
                 return _NEXT
-            self._converged(new_corr, load_ok)
+            self._converged(load_ok)
             return _BREAK
         moving = add.any() or remove.any()
         if not res_out.any() and not moving:
@@ -441,7 +441,7 @@ class FrontIteration:
         self.opened |= remove
         return _NEXT
 
-    def _converged(self, new_corr, load_ok: bool = True) -> None:
+    def _converged(self, load_ok: bool = True) -> None:
         front_tol, rmax = self.front_tol, self.rmax
         self.converged = status_ok = rmax <= front_tol and not self.stale and load_ok
         self.status = "partial" if status_ok else "not_converged"

@@ -276,7 +276,7 @@ def _edge_rules(sizes, scenes) -> str | None:
     it to a0 → 0 (a fixed a0 of one cell at the coarsest grid and two or more at the finer
     ones: ``solver.extrapolate_a0``'s default, docs/theory.md), whose values then move with
     the rule as well as with N."""
-    rule = [bool(getattr(sc, "extrapolate_a0", False)) for sc in scenes]
+    rule = [bool(sc.extrapolate_a0) for sc in scenes]
     if len(set(rule)) < 2:
         return None
     by = {r: [str(n) for n, x in zip(sizes, rule, strict=True) if x == r] for r in (False, True)}

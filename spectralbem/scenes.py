@@ -367,9 +367,9 @@ def _build_seed(spec: dict) -> Scene:
                                                                       s["delta_tilde"])
     values = ctl[1] if isinstance(ctl[1], list) else [ctl[1]]
     n, ny = s["cells_per_wavelength"], s["ny"]
+    memory = dict(viscoelastic=s["zeta"] > 0 and s["beta"] > 1, adhesive=s["Gamma"] > 0)
     _check_memory("sinusoid.cells_per_wavelength × sinusoid.ny", (n, ny), model=model,
-                  viscoelastic=s["zeta"] > 0 and s["beta"] > 1, adhesive=s["Gamma"] > 0,
-                  steps=len(values))
+                  steps=len(values), **memory)
     lam = 2 * np.pi
     cell = Cell(lam, lam / n * ny, n, ny)
     from .oned import dimensionless_material
@@ -388,8 +388,7 @@ def _build_seed(spec: dict) -> Scene:
                            "sinusoid.delta_tilde")
     extra = {"solver": dict(spec["solver"])} if "solver" in spec else {}
     if extra and extra["solver"].get("extrapolate_a0"):  # before any solve, as a scene error
-        _check_extrapolation(cell, s["a0_tilde"], model, dict(
-            viscoelastic=s["zeta"] > 0 and s["beta"] > 1, adhesive=s["Gamma"] > 0))
+        _check_extrapolation(cell, s["a0_tilde"], model, memory)
     return Scene(cell, mat, sinusoid(cell, 1.0), (v * np.cos(phi), v * np.sin(phi)),
                  np.pi * s["Gamma"], s["a0_tilde"], p0, d0, "sinusoid", params, None, model,
                  spec, control=(name, steps), **extra)

@@ -441,7 +441,7 @@ def run_sweep(scene_file, over: list, out, *, overrides: dict | None = None,
         for m in scene_warnings(scene):
             implausible.setdefault(m, i)
         # what the warnings after the solve read of a point's scene (not its heights)
-        kinds.append(SimpleNamespace(adhesive=scene.adhesive, a0=getattr(scene, "a0", None),
+        kinds.append(SimpleNamespace(adhesive=scene.adhesive, a0=scene.a0,
                                      viscoelastic=scene.viscoelastic))
     if problems:
         raise SceneError(problems)

@@ -435,6 +435,32 @@ def _terminate(signum, frame):
 SIGTERM_EXIT = 143
 
 
+#: a Ctrl-C that a finalizer swallowed is raised again this much later (s), once the main
+#: thread has left the finalizer (raised at once, it lands in the hook itself)
+RAISE_AGAIN_DELAY = 0.05
+
+
+def _raise_again(previous):
+    """A ``sys.unraisablehook`` that raises again the signal whose KeyboardInterrupt a
+    finalizer swallowed ("Exception ignored in __del__": a Ctrl-C that lands while numba
+    compiles a kernel, on a fresh checkout's first solve, was lost and the run went on), so
+    that it reaches the command where it stands; other unraisables go to ``previous``."""
+    import _thread
+    import signal
+    import threading
+
+    def hook(unraisable):
+        exc = unraisable.exc_value
+        if isinstance(exc, KeyboardInterrupt):
+            sig = signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT
+            timer = threading.Timer(RAISE_AGAIN_DELAY, _thread.interrupt_main, (sig,))
+            timer.daemon = True
+            timer.start()
+            return
+        previous(unraisable)
+    return hook
+
+
 def main(argv=None) -> int:
     import signal
     import threading
@@ -444,6 +470,7 @@ def main(argv=None) -> int:
     main_thread = threading.current_thread() is threading.main_thread()
     old = signal.signal(signal.SIGTERM, _terminate) if main_thread else None
     _TERMINATED.clear()
+    unraisable, sys.unraisablehook = sys.unraisablehook, _raise_again(sys.unraisablehook)
     try:
         rc = args.func(args)
     except KeyboardInterrupt:
@@ -455,6 +482,7 @@ def main(argv=None) -> int:
         print(f"spectralbem {args.command}: error: {exc}", file=sys.stderr)
         rc = 1
     finally:
+        sys.unraisablehook = unraisable
         if main_thread:
             signal.signal(signal.SIGTERM, old)
     # a command that kept its finished work on SIGTERM returned 130, as on Ctrl-C

@@ -734,3 +734,33 @@ def test_a_height_map_run_reruns_from_its_dataset(tmp_path, monkeypatch):
     again = sb.solve(load_scene(spec, base_dir=tmp_path / "elsewhere"))
     for v in ("area_fraction", "mean_pressure", "penetration"):
         np.testing.assert_array_equal(again[v].values, ds[v].values)
+
+
+def test_a_ctrl_c_swallowed_by_a_finalizer_still_stops_the_command(tmp_path):
+    """A Ctrl-C that lands in a finalizer ("Exception ignored in __del__": numba's compiler
+    objects while a fresh checkout's first solve compiles its kernels) was lost and the run
+    went on to its end; the command raises it again once out of the finalizer: one line,
+    exit 130 (a command whose finalizer swallows a KeyboardInterrupt, then works on)."""
+    import subprocess
+    import sys
+
+    script = tmp_path / "swallow.py"
+    script.write_text(
+        "import sys, time\n"
+        "from spectralbem import cli\n"
+        "def fake(args):\n"
+        "    class D:\n"
+        "        def __del__(self):\n"
+        "            raise KeyboardInterrupt\n"
+        "    D()\n"
+        "    for _ in range(100):\n"
+        "        time.sleep(0.01)\n"
+        "    print('finished', file=sys.stderr)\n"
+        "    return 0\n"
+        "cli._run = fake\n"
+        "sys.exit(cli.main(['run', sys.argv[1], '-o', sys.argv[2]]))\n")
+    proc = subprocess.run([sys.executable, str(script), str(CASES / "jkr_sphere.toml"),
+                           str(tmp_path / "x.nc")], capture_output=True, text=True,
+                          timeout=60)
+    assert proc.returncode == 130, proc.stderr
+    assert proc.stderr == "spectralbem run: interrupted\n"

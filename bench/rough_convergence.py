@@ -53,6 +53,11 @@ KEYS = ("area_fraction", "mean_gap", "mu", "mu_adhesive", "G1", "G2")
 #: and not compared with the others'
 RATES = "ratio_of_sums"
 RATE_KEYS = ("G1", "G2", "mu_adhesive")
+#: the band rule of the runs recorded now: the band the front sweeps when it advances a0
+#: along its normal (docs/theory.md, "The band is a0 wide at every orientation"); rows
+#: without it had each front cell's band a0 wide per front length ("width") and form tables
+#: of their own
+BANDS = "advance"
 
 
 def _old_rates(r: dict) -> bool:
@@ -124,7 +129,7 @@ def run_one(n: int, material: str, a0: float, sigma: float | None,
             else float("nan"))
     return dict(N=n, material=material, a0=a0, sigma=sigma, cpu=cpu, steps=steps,
                 hysteresis=hyst, coarse_start=coarse, loading_only=loading_only,
-                release_rates=RATES,
+                release_rates=RATES, bands=BANDS,
                 front_tol=front_tol, extrapolate_a0=extrapolate,
                 delayed_kernel=None if material == "elastic" else delayed)
 
@@ -138,11 +143,11 @@ def _kernel(r: dict):
 def _key(r: dict) -> tuple:
     """A run's table: material, a0, σ, the start (rows before the coarse start: False),
     whether it is the loading state alone, the tolerance in position (None: default), the
-    discretisation of the kernel's delayed part and the extrapolation of the elastic edge
-    in a0."""
+    discretisation of the kernel's delayed part, the extrapolation of the elastic edge
+    in a0 and the band rule (rows before :data:`BANDS`: "width")."""
     return (r["material"], r["a0"], r["sigma"], bool(r.get("coarse_start", False)),
             bool(r.get("loading_only", False)), r.get("front_tol"), _kernel(r),
-            bool(r.get("extrapolate_a0", False)))
+            bool(r.get("extrapolate_a0", False)), r.get("bands", "width"))
 
 
 def scan_one(n: int, a0_cells: float, sigma: float | None) -> dict:
@@ -261,7 +266,8 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
     by = {}
     for r in runs:
         by.setdefault(_key(r), []).append(r)
-    for (mat, a0, sig, coarse, only, ftol, dk, ex), rs in sorted(by.items(), key=_table_order):
+    for (mat, a0, sig, coarse, only, ftol, dk, ex, bnd), rs in sorted(by.items(),
+                                                                      key=_table_order):
         rs = sorted(rs, key=lambda r: r["N"])
         lines += [f"### {mat}, a0 = {a0 * 1e6:g} µm, front smoothing σ = "
                   f"{f'default ({_default_sigma(mat):g} a0)' if sig is None else f'{sig:g} a0'}"
@@ -270,7 +276,9 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
                   + (", loading state only (`--loading-only`)" if only else "")
                   + (", edge extrapolated to a0 → 0 (`--extrapolate-a0`)" if ex else "")
                   + ("" if dk is None else f", delayed kernel: {dk}"
-                     + (" (default)" if dk == DELAYED_DEFAULT else " (`--delayed-kernel`)")),
+                     + (" (default)" if dk == DELAYED_DEFAULT else " (`--delayed-kernel`)"))
+                  + ("" if bnd == BANDS else ", **before the advance band**: each front "
+                     "cell's band a0 wide per front length"),
                   "",
                   "| N | step | status | balanced | area | mean gap (µm) | μ | μ_a | G1/Δγ | "
                   "G2/Δγ | crack tips (mm) | CPU s |",
@@ -479,7 +487,7 @@ def _table_runs(runs, material: str, extrapolate: bool) -> list:
     """The default table's runs of a material along the whole path, by N (adhesiveless
     start, a0 = A0, default σ, tolerance and kernel)."""
     want = (material, A0, None, False, False, None,
-            None if material == "elastic" else DELAYED_DEFAULT, extrapolate)
+            None if material == "elastic" else DELAYED_DEFAULT, extrapolate, BANDS)
     return sorted((r for r in runs if _key(r) == want and not _old_rates(r)),
                   key=lambda r: r["N"])
 
@@ -537,9 +545,9 @@ def resolution_table(runs: list) -> list:
 
 #: the default tables, in the page's order: the elastic path with the edge extrapolated to
 #: a0 → 0, the sls path and the sls loading state (every other setting the solver's default)
-DEFAULT_TABLES = (("elastic", A0, None, False, False, None, None, True),
-                  ("sls", A0, None, False, False, None, DELAYED_DEFAULT, False),
-                  ("sls", A0, None, False, True, None, DELAYED_DEFAULT, False))
+DEFAULT_TABLES = (("elastic", A0, None, False, False, None, None, True, BANDS),
+                  ("sls", A0, None, False, False, None, DELAYED_DEFAULT, False, BANDS),
+                  ("sls", A0, None, False, True, None, DELAYED_DEFAULT, False, BANDS))
 
 
 def _table_order(item) -> tuple:

@@ -6,14 +6,20 @@ front")."""
 
 from __future__ import annotations
 
+from functools import lru_cache
+from math import gcd
+
 import numpy as np
 from scipy import ndimage
 
 from . import kernels
+from .bands import bands
 from .front import front_length_weights
 
-__all__ = ["band_widths", "layer_weights", "upper_band", "patch_sigmas", "smooth_along_front",
-           "front_average", "WIDTH_SMOOTHING", "WIDTH_RANGE", "FRONT_GRAPH"]
+__all__ = ["band_widths", "layer_weights", "straight_front_weights", "upper_band",
+           "patch_sigmas", "smooth_along_front", "front_average", "WIDTH_SMOOTHING",
+           "WIDTH_RANGE", "FRONT_GRAPH", "STRAIGHT_FRONT_DENOMINATOR",
+           "STRAIGHT_FRONT_CELLS"]
 
 #: average along the front graph (True) or with a grid Gaussian restricted to front cells
 FRONT_GRAPH = True
@@ -77,52 +83,82 @@ def upper_band(b, a0: float) -> np.ndarray:
     return out
 
 
-def layer_weights(b, a0: float, upper: np.ndarray, normal, sigma: float):
-    """(outer, inner): the weight θ of the wider band (``upper``, :func:`upper_band`) on
-    each outer and inner front cell (packed, in the flat order of ``b.outer_front``,
-    ``b.inner_front``), the band of the cells within a0 weighing 1 − θ, so that the
-    interpolated band is a0 wide along the normal at every orientation of the front.
+def layer_weights(b, a0: float, normal) -> tuple:
+    """(outer, inner): the weight θ of the wider band (:func:`upper_band`) on each outer and
+    inner front cell (packed, in the flat order of ``b.outer_front``, ``b.inner_front``),
+    the band of the cells within a0 weighing 1 − θ: the band of the front advanced by a0
+    along its normal, with the lattice's orientation deficit removed.
 
     A band of reach r holds the cells whose centre lies within r of the other side's
     centres: on an axis-aligned front ⌊r/h⌋ h wide, on an oblique digital front less (at
-    45°, r = 2h holds two diagonal layers, √2 h wide; r = 3h four, 2√2 h).  Its actual
-    width at a front cell is its area per front length (front.front_length_weights),
-    averaged along the front over max(σ, WIDTH_SMOOTHING) cells as in :func:`band_widths`;
-    θ interpolates the two bands' widths w_lo ≤ a0 ≤ w_hi linearly to a0 (clipped to
-    [0, 1]).  On an axis-aligned front with a0 = (m + θ) h this is the whole-layer
-    weight θ of criterion.band_split."""
+    45°, r = 2h holds two diagonal layers, √2 h wide; r = 3h four, 2√2 h).  θ is the weight
+    that makes the interpolated band exactly a0 wide on the straight digital front of the
+    front cell's normal (:func:`straight_front_weights`, interpolated in the normal's
+    angle); no curvature enters it, so on a curved front the band keeps the area of the
+    continuous front's advance, a0 (1 ± κa0/2) per length (wider on the convex side,
+    narrower on the concave one), as a band of the cells within a0 does as h → 0.  On an
+    axis-aligned front with a0 = (m + θ) h this is the whole-layer weight θ of
+    bands.band_split."""
     hx, hy = b.spacing
-    a, tol = hx * hy, 1e-9 * min(hx, hy)
-    sig = max(sigma, WIDTH_SMOOTHING)
+    phi_t, th_out, th_in = straight_front_weights(round(a0 / hx, 12), round(hy / hx, 12))
     out = []
-    for owner, dist, front in ((b.outer_owner, b.outer_dist, b.outer_front),
-                               (b.inner_owner, b.inner_dist, b.inner_front)):
-        # packed over the side's front cells fidx: ds, the band cells per owner (n_lo,
-        # n_hi) and the cells with an upper band (ok); one N² array of the ratios
-        fidx = np.flatnonzero(front)
-        ds = front_length_weights([n.ravel()[fidx] for n in normal], hx, hy)
-        own = owner.ravel()
-        sel = np.flatnonzero(own >= 0)
-        lo = dist.ravel()[sel] <= a0 + tol
-        n_hi = _owner_counts(own[sel][upper.ravel()[sel]], fidx)
-        n_lo = _owner_counts(own[sel][lo], fidx)
-        del sel, lo
-        ok = n_hi > 0
-        okf = np.zeros(front.shape, bool)
-        okf.ravel()[fidx[ok]] = True
-        ratio = np.full(front.shape, np.nan)
-        w = []
-        for n in (n_lo, n_hi):
-            ratio.ravel()[fidx[ok]] = n[ok] * a / ds[ok]
-            smooth_along_front(ratio, okf, sig, (fidx, ds), normal, out=ratio)
-            w.append(ratio.ravel()[fidx])  # the front cells' values, a new packed array
-        del n_hi, n_lo, ratio, okf
-        w_lo, w_hi = w
-        span = w_hi - w_lo
-        with np.errstate(invalid="ignore", divide="ignore"):
-            theta = np.where(span > tol, (a0 - w_lo) / np.where(span > tol, span, 1.0), 0.0)
-        out.append(np.clip(np.nan_to_num(theta, nan=0.0), 0.0, 1.0))
+    for front, th in ((b.outer_front, th_out), (b.inner_front, th_in)):
+        phi = np.arctan2(np.abs(normal[1][front]), np.abs(normal[0][front]))
+        out.append(np.clip(np.interp(phi, phi_t, th), 0.0, 1.0))
     return tuple(out)
+
+
+#: the straight digital fronts of :func:`straight_front_weights` run at the slopes p/q of
+#: cells with coprime 0 ≤ p, q ≤ this (93 orientations, 0.6-4.8° apart)
+STRAIGHT_FRONT_DENOMINATOR = 12
+#: ... on periodic grids of at most this many cells (all 93 up to a0 ≈ 68 cells; the two
+#: axes at any a0)
+STRAIGHT_FRONT_CELLS = 2**20
+
+
+@lru_cache(maxsize=16)
+def straight_front_weights(a0_cells: float, aspect: float) -> tuple:
+    """(φ, θ_outer, θ_inner), sorted by φ: for straight digital fronts whose normal makes
+    the angle φ ∈ [0, π/2] with the x axis (in metres: φ = atan2(|n_y|, |n_x|)), the weight
+    θ of the band of :func:`upper_band` that makes the interpolation (1 − θ) w_lo + θ w_hi of
+    its width and that of the band within a0 equal to a0 on the closing (outer) and opening
+    (inner) side.  The widths are areas per front length over whole periods of periodic
+    stripes ((i p − j q) mod M < M/2 on a (M/gcd(M, p)) × (M/gcd(M, q)) cell grid, every
+    offset of the digital line once), cells of hx = 1 and hy = ``aspect`` with a0 =
+    ``a0_cells`` hx.  θ may lie outside [0, 1] where the two bands do not bracket a0
+    (a0 ≳ 8 cells at some orientations; :func:`layer_weights` clips).  Oblique orientations
+    whose grid would exceed :data:`STRAIGHT_FRONT_CELLS` cells are left out (a0 beyond
+    about 68 cells); the axes never are, so that a band of any a0 has a table."""
+    hx, hy = 1.0, float(aspect)
+    hmin = min(hx, hy)
+    a0 = float(a0_cells) * hx
+    tol = 1e-9 * hmin
+    qmax = STRAIGHT_FRONT_DENOMINATOR
+    pairs = [(0, 1), (1, 0)] + [(p, q) for p in range(1, qmax + 1)
+                                for q in range(1, qmax + 1) if gcd(p, q) == 1]
+    rows = []
+    for p, q in pairs:
+        grad = np.hypot(p / hx, q / hy)  # |∇s| of s = i p − j q (per metre)
+        need = int(np.ceil(4 * (a0 + 4 * hmin) * grad))  # stripes 2 (a0 + 4h) wide
+        M = p * q * int(np.ceil(need / (p * q))) if p and q else max(need, 4)
+        nx = M // gcd(M, p) if p else 4
+        ny = M // gcd(M, q) if q else 4
+        if nx * ny > STRAIGHT_FRONT_CELLS and p and q:
+            continue  # a0 of tens of cells: this orientation is left to the interpolation
+        i, j = np.indices((nx, ny))
+        mask = np.mod(i * p - j * q, M) < M // 2
+        b = bands(mask, hx, hy, a0, reach=a0 + hmin)
+        upper = upper_band(b, a0)
+        length = 2 * nx * ny * hx * hy * grad / M  # both edges of every stripe
+        th = []
+        for owner, dist in ((b.outer_owner, b.outer_dist), (b.inner_owner, b.inner_dist)):
+            side = owner >= 0
+            w_lo = np.count_nonzero(side & (dist <= a0 + tol)) * hx * hy / length
+            w_hi = np.count_nonzero(side & upper) * hx * hy / length
+            th.append((a0 - w_lo) / (w_hi - w_lo) if w_hi > w_lo + tol else 0.0)
+        rows.append((np.arctan2(q / hy, p / hx), th[0], th[1]))
+    rows.sort()
+    return tuple(np.array(c) for c in zip(*rows, strict=True))
 
 
 def _slots(cells: np.ndarray, idx: np.ndarray) -> tuple:
@@ -132,12 +168,6 @@ def _slots(cells: np.ndarray, idx: np.ndarray) -> tuple:
         return np.zeros(idx.size, np.intp), np.zeros(idx.size, bool)
     slot = np.minimum(np.searchsorted(cells, idx), cells.size - 1)
     return slot, cells[slot] == idx
-
-
-def _owner_counts(owners: np.ndarray, fidx: np.ndarray) -> np.ndarray:
-    """How many of ``owners`` (flat cells) fall on each of the sorted cells ``fidx``."""
-    slot, keep = _slots(fidx, owners)
-    return np.bincount(slot[keep], minlength=fidx.size)
 
 
 def patch_sigmas(mask, outer_front, inner_front, sigma: float, per_radius: float):

@@ -72,34 +72,24 @@ class Bands:
 
     @property
     def normal(self) -> tuple:
-        """Outward unit normal (nx, ny) of A from a smoothed indicator (σ ≈ 2 cells), on the
-        whole grid (meaningful on the front cells); computed on demand (two N² arrays)."""
+        """Outward unit normal (nx, ny) of A: minus the gradient of its indicator smoothed
+        by a Gaussian of σ = 2 cells, as the convolution with the Gaussian's derivative
+        (isotropic: on straight digital fronts at 0-79° to the grid within 0.06° of the
+        normal, where centred differences of the smoothed indicator turn it by up to 0.6°
+        towards the nearer axis); on the whole grid (meaningful on the front cells),
+        computed on demand (two N² arrays)."""
         hx, hy = self.spacing
-        sm = ndimage.gaussian_filter(self.mask, sigma=(2.0, 2.0), mode="wrap",
+        gx = ndimage.gaussian_filter(self.mask, sigma=2.0, order=(1, 0), mode="wrap",
                                      output=np.float64)
-        gx, gy = _centred_difference(sm, 0, hx), _centred_difference(sm, 1, hy)
-        del sm
+        gy = ndimage.gaussian_filter(self.mask, sigma=2.0, order=(0, 1), mode="wrap",
+                                     output=np.float64)
+        gx /= hx
+        gy /= hy
         nrm = np.hypot(gx, gy)
         nrm[nrm == 0] = 1.0
         gx /= -nrm
         gy /= -nrm
         return gx, gy
-
-
-def _centred_difference(f: np.ndarray, axis: int, h: float) -> np.ndarray:
-    """(f[i + 1] − f[i − 1]) / (2h) along ``axis``, periodic: the values of
-    ``(np.roll(f, -1, axis) - np.roll(f, 1, axis)) / (2 * h)`` without its three temporaries
-    (the peak of a front test's end, where :attr:`Bands.normal` is formed)."""
-    if f.shape[axis] < 3:
-        return (np.roll(f, -1, axis) - np.roll(f, 1, axis)) / (2 * h)
-    out = np.empty_like(f)
-    src = np.moveaxis(f, axis, 0)
-    dst = np.moveaxis(out, axis, 0)
-    np.subtract(src[2:], src[:-2], out=dst[1:-1])
-    np.subtract(src[1], src[-1], out=dst[0])
-    np.subtract(src[0], src[-2], out=dst[-1])
-    out /= 2 * h
-    return out
 
 
 def band_split(a0: float, hx: float, hy: float) -> tuple:

@@ -249,7 +249,7 @@ def exact_width(op: SpectralOperator, a0: float) -> bool:
                 or a0 >= EXACT_WIDTH_MIN_CELLS * min(cell.hx, cell.hy) * (1 - 1e-9))
 
 
-def _band_plan(op, b: Bands, a0: float, normal, sigma: float, exact: bool):
+def _band_plan(op, b: Bands, a0: float, normal, exact: bool):
     """The bands each test interpolates: [(reach, outer weights, inner weights), ...] with
     the reach (m) of a band (the cells whose centre lies within it of the other side's
     centres; None: along_front.upper_band, returned too) and the weights packed over the
@@ -267,7 +267,7 @@ def _band_plan(op, b: Bands, a0: float, normal, sigma: float, exact: bool):
         return [(m * h, np.full(n_out, wt), np.full(n_in, wt))
                 for m, wt in band_weights(a0, *b.spacing)], None
     upper = upper_band(b, a0)  # bool: an eighth of an N² array
-    th_out, th_in = layer_weights(b, a0, upper, normal, sigma)
+    th_out, th_in = layer_weights(b, a0, normal)
     return [(a0, 1.0 - th_out, 1.0 - th_in), (None, th_out, th_in)], upper
 
 
@@ -435,7 +435,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     cols = colours(b, vhat, op.viscoelastic, normal)
     sigma = _sigma_cells(default_smoothing(front_smoothing, op.viscoelastic), a0, hmin,
                          mask.shape)
-    plan, upper = _band_plan(op, b, a0, normal, sigma, exact)
+    plan, upper = _band_plan(op, b, a0, normal, exact)
     del normal  # not held while the band solves run (the peak of a front test)
     io_out, io_in = np.flatnonzero(b.outer_front), np.flatnonzero(b.inner_front)
     own, own_i = b.outer_owner.ravel(), b.inner_owner.ravel()

@@ -589,12 +589,13 @@ def test_extrapolated_edge_does_not_follow_the_mask_on_a_rough_surface(monkeypat
     edge, on the side the front came from, and the reported edge must not depend on where.
     Rough elastic case of docs/rough_convergence.md at 256² (a0 = 2 cells), loading state
     at 1e4 Pa with the default edge (extrapolated to a0 → 0): its balanced sub-cell front
-    re-digitised a quarter cell further in and further out (the cells whose centres lie
-    inside the level set of the front shifted by ∓h/4), each mask tested once at the state's
-    Δ without moving.  The reported area moves by at most 0.1 of the mask's area change
-    (measured −0.003 inward, +0.04 outward; the edge of the a0 tests alone follows the inward
-    shift by 0.43, a one-off measurement: K taken as linear over 2a0 curves on these
-    fronts, docs/theory.md)."""
+    re-digitised 0.3 cell further in and further out (the cells whose centres lie inside
+    the level set of the front shifted by ∓0.3 h; 88 and 1427 cells change), each mask
+    tested once at the state's Δ without moving.  The reported area moves by at most 0.1 of
+    the mask's area change (measured −0.06 inward, +0.009 outward; the edge of the a0 tests
+    alone follows the inward shift by 0.43, a one-off measurement: K taken as linear over
+    2a0 curves on these fronts, docs/theory.md).  Shifted further in, by 0.35-0.4 h (159 and
+    253 cells), the reported edge over-corrects by 0.23-0.24 of the change: not tested."""
     from pathlib import Path
 
     from spectralbem import coarse, front, front_iteration, solving
@@ -617,14 +618,14 @@ def test_extrapolated_edge_does_not_follow_the_mask_on_a_rough_surface(monkeypat
     monkeypatch.setattr(front_iteration.FrontIteration, "_moves", lambda *a: (still, still))
     monkeypatch.setattr(front_iteration.FrontIteration, "_nucleate", lambda *a: False)
     area = {}
-    for t in (0.0, 0.25, -0.25):
+    for t in (0.0, 0.3, -0.3):
         mask = phi > t * cell.hx
         tested = solve_adhesive(op, scene.heights, scene.dgamma, scene.a0, mask0=mask,
                                 penetration=r.penetration, max_outer=1, **kw)
         area[t] = (mask.sum() * cell.cell_area, front.sub_cell_area(tested, cell))
-    for t in (0.25, -0.25):
+    for t in (0.3, -0.3):
         dm, da = area[t][0] - area[0.0][0], area[t][1] - area[0.0][1]
-        assert abs(dm) > 2e-3 * cell.Lx * cell.Ly, (t, dm)  # the masks do differ
+        assert abs(dm) > 50 * cell.cell_area, (t, dm)  # the masks do differ
         assert abs(da) <= 0.1 * abs(dm), (t, da / dm)
 
 
@@ -657,9 +658,11 @@ def test_extrapolated_elastic_edge_does_not_move_with_a0_on_a_rough_surface():
 def test_band_tol_loosens_the_moving_tests_only(monkeypatch):
     """``solver.band_tol``: the band tests of the states the front passes through solve to
     that tolerance, and a state that balances is tested again at the state's tolerance
-    before it is accepted.  Rough viscoelastic case of docs/rough_convergence.md at 128²
-    (loading at 1e4 Pa): every front test of the solve with band_tol = 1e-5 but the last
-    ones runs its band solves at 1e-5, the accepted state's at the state's (band_rtol None),
+    before it is accepted, as is every state after it.  Rough viscoelastic case of
+    docs/rough_convergence.md at 128² (loading at 1e4 Pa): the front tests of the solve
+    with band_tol = 1e-5 run their band solves at 1e-5 until a state balances, the retest
+    and the rest at the state's tolerance (band_rtol None; here the retest moved the front
+    once more),
     and it is the same verified state as the default's (measured at 256²: identical area,
     μ, G1, G2, μ_a; the contact masks are compared here)."""
     from pathlib import Path
@@ -687,9 +690,11 @@ def test_band_tol_loosens_the_moving_tests_only(monkeypatch):
         ds = sb.solve(load_scene(raw, base_dir=case.parent, overrides=ov))
         assert ds.status.item() == "partial", ds.attrs["solver_message"]
         masks[bt] = ds.contact.values.astype(bool)
-        assert seen[-1] is None  # the accepted state: band solves at the state's tolerance
-        assert seen[:-1] == pytest.approx([1e-7 if bt is None else bt] * (len(seen) - 1),
-                                          rel=1e-12), seen
+        # the loose tests until a state balances, from then on (its retest, and the tests
+        # of the states after a retest that moved the front) the state's tolerance
+        k = seen.index(None)
+        assert 0 < k and seen[k:] == [None] * (len(seen) - k), seen
+        assert seen[:k] == pytest.approx([1e-7 if bt is None else bt] * k, rel=1e-12), seen
     np.testing.assert_array_equal(masks[None], masks[1e-5])
 
 
@@ -715,7 +720,7 @@ def test_a_state_balanced_only_in_the_loose_tests_is_not_verified():
     """The first balanced state is tested again at the state's tolerance before it is
     accepted; where the iteration guard leaves no iteration for that, the state is
     ``not_converged`` with the reason (it was accepted, ``partial``, from the band tests at
-    ``band_tol`` alone: the JKR sphere at 128², Δ = 6 µm, band_tol = 1e-5, max_outer = 3),
+    ``band_tol`` alone: the JKR sphere at 128², Δ = 6 µm, band_tol = 1e-5, max_outer = 4),
     and one iteration more gives the verified state."""
     from pathlib import Path
 
@@ -725,10 +730,10 @@ def test_a_state_balanced_only_in_the_loose_tests_is_not_verified():
     raw["control"] = {"penetration": 6e-6}
     ov = {"grid.Nx": 128, "grid.Ny": 128, "adhesion.a0": 1.5625e-5, "solver.band_tol": 1e-5}
     states = {k: sb.solve(load_scene(raw, overrides={**ov, "solver.max_outer": k}))
-              for k in (3, 4)}
-    assert str(states[3].status.values) == "not_converged"
-    assert "not yet tested at the state's tolerance" in states[3].attrs["solver_message"]
-    assert str(states[4].status.values) == "partial" and int(states[4].iterations) == 4
+              for k in (4, 5)}
+    assert str(states[4].status.values) == "not_converged"
+    assert "not yet tested at the state's tolerance" in states[4].attrs["solver_message"]
+    assert str(states[5].status.values) == "partial" and int(states[5].iterations) == 5
 
 
 def test_the_guard_on_a_nucleation_step_says_how_far_the_front_balanced():

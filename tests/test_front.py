@@ -324,21 +324,78 @@ def _visco_band(mask, a0_cells):
     return length, areas, t.width_out[b.outer_front] / h
 
 
-@pytest.mark.parametrize("a0_cells", [1.0, 1.5, 2.0, 3.0])
-@pytest.mark.parametrize("slope", [1, 2])
+def _straight_front_bands(slope: int, a0_cells: float, n: int = 120):
+    """(closing, opening band areas per true front length, in a0; the outer front cells'
+    normal angles, degrees) of the viscoelastic tests of the straight periodic stripe
+    (i + slope j) mod n < n/2, whose two edges are n √(1 + slope²) cells long each."""
+    from spectralbem.criterion import front_tests
+    from spectralbem.materials import StandardLinearSolid
+    from spectralbem.spectral import Cell, SpectralOperator
+
+    i, j = np.indices((n, n))
+    mask = (i + slope * j) % n < n // 2
+    op = SpectralOperator(Cell(1.0, 1.0, n, n), StandardLinearSolid(1.0, 10.0, 1.0, 0.0),
+                          velocity=(0.05, 0.0))
+    h = 1.0 / n
+    t = front_tests(op, np.zeros(mask.shape), mask, np.zeros(mask.shape), 1.0, a0_cells * h,
+                    adjoint=False)
+    length = 2 * n * np.hypot(1.0, slope) * a0_cells * h**2  # both edges
+    nx, ny = t.bands.normal
+    front = t.bands.outer_front
+    phi = np.degrees(np.arctan2(np.abs(ny[front]), np.abs(nx[front])))
+    return (sum(t.closing[c].area for c in t.closing) / length,
+            sum(t.opening[c].area for c in t.opening) / length, phi)
+
+
+@pytest.mark.parametrize("a0_cells", [1.0, 1.5, 2.0, 3.0, 4.7])
+@pytest.mark.parametrize("slope", [1, 2, 3, 5])
 def test_viscoelastic_band_is_a0_wide_at_every_orientation(a0_cells, slope):
-    """A viscoelastic scene's band is exactly a0 wide along the normal whatever the front's
-    orientation (along_front.layer_weights): on straight digital fronts at 45° (slope 1)
-    and 26.6° (slope 2) the interpolated band's area is a0 times the front length and every
-    front cell's width is a0, to 1e-6 (the fronts are periodic, so every cell of a
-    front sees the same staircase).  A band of the cells within a0 alone is √2 h wide at
-    45° and a0 = 2 h, 0.71 a0: with it, a sliding front's release rates were those of
-    a0/√2 (G1 +24 % on the sinusoid of the next test)."""
-    i, j = np.indices((64, 64))
-    mask = (i + slope * j) % 64 < 32
-    length, area, width = _visco_band(mask, a0_cells)
-    assert area == pytest.approx(a0_cells * length, rel=1e-6)
-    assert np.allclose(width, a0_cells, rtol=1e-6)
+    """A viscoelastic scene's band is a0 wide along the normal whatever the orientation of
+    a straight front (along_front.layer_weights): on periodic digital fronts at 45°,
+    63.4°, 71.6° and 78.7° to the x axis the closing and opening bands' areas are a0 times
+    the true front length within 0.2 % (measured ≤ 0.12 %: θ is read from the table of
+    straight fronts at the normal's angle, which the smoothed indicator gives within 0.06°
+    on average here, bands.Bands.normal).  A band of the cells within a0 alone is √2 h
+    wide at 45° and a0 = 2 h, 0.71 a0: with it, a sliding front's release rates were those
+    of a0/√2 (G1 +24 % on the sinusoid of the next test); with the normal from centred
+    differences of the smoothed indicator (0.3-0.6° off towards the nearer axis here) the
+    areas were up to 0.4 % off."""
+    close, open_, phi = _straight_front_bands(slope, a0_cells)
+    assert abs(np.mean(phi - np.degrees(np.arctan(slope)))) < 0.1  # no bias
+    assert close == pytest.approx(1.0, abs=2e-3)
+    assert open_ == pytest.approx(1.0, abs=2e-3)
+
+
+@pytest.mark.parametrize("a0_cells", [1.5, 3.0, 6.4])
+@pytest.mark.parametrize("radius", [20.3, 40.3])
+def test_viscoelastic_band_of_a_disc_is_the_advance_of_its_edge(radius, a0_cells):
+    """On a digital disc (radius r cells) the closing band is the annulus the edge sweeps
+    when it advances a0 along its normal, π((r + a0)² − r²), the opening band the one it
+    sweeps when it recedes, π(r² − (r − a0)²) (r from the mask's area): the band keeps the
+    curvature's a0 (1 ± a0/2r) per front length, 4-16 % here, and corrects only the
+    lattice's deficit on oblique parts of the front.  Within 1 % at r = 20 cells and 0.7 %
+    at 40 (measured ≤ 0.80 % and ≤ 0.52 %, 0.33 % at 80: the digital disc's own error).  The rule
+    that made every front cell's band a0 wide put them 4-16 % off, and the release rates of
+    a concave front (a non-contact lake) drifted with N at fixed a0 (docs/theory.md)."""
+    from spectralbem.criterion import front_tests
+    from spectralbem.materials import StandardLinearSolid
+    from spectralbem.spectral import Cell, SpectralOperator
+
+    n = int(2 * (radius + a0_cells) + 16)
+    n += n % 2
+    op = SpectralOperator(Cell(1.0, 1.0, n, n), StandardLinearSolid(1.0, 10.0, 1.0, 0.0),
+                          velocity=(0.05, 0.0))
+    h = 1.0 / n
+    i, j = np.indices((n, n))
+    mask = np.hypot(i - n / 2 + 0.27, j - n / 2 + 0.11) < radius
+    t = front_tests(op, np.zeros(mask.shape), mask, np.zeros(mask.shape), 1.0, a0_cells * h,
+                    adjoint=False)
+    r = np.sqrt(mask.sum() / np.pi)
+    closing = sum(t.closing[c].area for c in t.closing) / h**2
+    opening = sum(t.opening[c].area for c in t.opening) / h**2
+    tol = 0.01 if radius < 40 else 0.007
+    assert closing == pytest.approx(np.pi * ((r + a0_cells) ** 2 - r**2), rel=tol)
+    assert opening == pytest.approx(np.pi * (r**2 - (r - a0_cells) ** 2), rel=tol)
 
 
 def test_viscoelastic_diagonal_front_against_the_1d_method():
@@ -407,20 +464,12 @@ def test_the_adjoint_split_restarts_short_and_falls_back_when_that_stalls(monkey
         assert np.linalg.norm((psi - ref)[~mask]) <= 1e-9 * scale
 
 
-def test_normal_differences_are_the_rolled_differences_without_their_temporaries():
-    """bands._centred_difference (the front normal's gradient, formed into one array) gives
-    the values of the periodic difference by np.roll bit for bit, on both axes and on short
-    axes; the in-place held_offsets gives the values of its former np.where form."""
-    from spectralbem.bands import _centred_difference
+def test_held_offsets_in_place_are_its_former_form():
+    """The in-place held_offsets gives the values of its former np.where form."""
     from spectralbem.front import touching
     from spectralbem.moves import held_offsets
 
     rng = np.random.default_rng(5)
-    for shape in ((16, 16), (7, 12), (2, 5), (3, 1)):
-        f = rng.random(shape)
-        for axis, h in ((0, 3.9e-6), (1, 7.8125e-6)):
-            ref = (np.roll(f, -1, axis) - np.roll(f, 1, axis)) / (2 * h)
-            assert np.array_equal(_centred_difference(f, axis, h), ref)
     s_out, s_in = rng.normal(size=(2, 12, 9))
     s_in[rng.random(s_in.shape) < 0.2] = np.nan
     s_in[rng.random(s_in.shape) < 0.1] = -np.inf
@@ -434,7 +483,7 @@ def test_normal_differences_are_the_rolled_differences_without_their_temporaries
 
 @pytest.mark.parametrize("load, direction, converged", [(3500.0, 0.0, True),
                                                         (10000.0, 135.0, True),
-                                                        (3000.0, 0.0, False)])
+                                                        (2300.0, 0.0, False)])
 def test_load_correction_at_a_jump_of_the_front_load(load, direction, converged):
     """The rough SLS case of docs/rough_convergence.md at 64² (a0 = one cell, ζ = 1): at these
     loads the front's load jumps across the prescribed one on a balanced mask (a cell's hold
@@ -442,7 +491,7 @@ def test_load_correction_at_a_jump_of_the_front_load(load, direction, converged)
     between two Δ to the 500-iteration guard (7-10 CPU-s each); now the bracketed
     correction names the jump within a few corrections, the mask moves once to the
     balanced edge's nearest cells, and the solve converges (3500 Pa, 10 kPa at 135°) or
-    ends at the second jump, not_converged with the reason (3000 Pa).  A converged state
+    ends at the second jump, not_converged with the reason (2300 Pa).  A converged state
     carries the prescribed load to LOAD_TOL."""
     from pathlib import Path
 

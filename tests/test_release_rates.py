@@ -41,17 +41,19 @@ def _closing_rates(n: int, a0: float, r0: float):
 
 def test_release_rates_of_a_curved_front_do_not_move_with_the_cells_per_a0():
     """On a fixed disc (radius 0.072, a0 = 0.0234: 6 and 12 cells at 256² and 512²) the
-    front-length averages of G − Δγ on the trailing and leading sides agree within 3 %
-    (measured: 0.9 %, the digital disc's own difference). They are ratios of sums along
-    the front, as the balance is: the per-owner ratios δL_P/δA, averaged plainly, moved
-    by 13 % per doubling here (a staircase corner owns a fan of band cells a0 deep, the
-    cells of a flat run only shallow rows, and δL_P varies across the band), which was
-    the drift of G1, G2 and μ_a on rough surfaces (docs/theory.md)."""
+    front-length averages of G on the trailing and leading sides agree within 0.5 % of Δγ
+    (measured 0.04 % and 0.28 %; G − Δγ = +0.091 and −0.054 to −0.057 Δγ, and at 128² and
+    1024² +0.087, +0.093 and −0.056, −0.056: a scatter of the digital disc of ±0.2 % of Δγ,
+    with no trend).  They are ratios of sums along the front, as the balance is: the
+    per-owner ratios δL_P/δA, averaged plainly, moved by 13 % of G − Δγ per doubling here
+    (a staircase corner owns a fan of band cells a0 deep, the cells of a flat run only
+    shallow rows, and δL_P varies across the band), which was the drift of G1, G2 and μ_a
+    on rough surfaces (docs/theory.md)."""
     a0, r0 = 0.0234375, 0.072
     coarse, fine = _closing_rates(256, a0, r0), _closing_rates(512, a0, r0)
     for gc, gf in zip(coarse, fine, strict=True):
         assert abs(gc - DGAMMA) > 0.03 * DGAMMA  # a viscoelastic release rate to compare
-        assert abs((gf - DGAMMA) / (gc - DGAMMA) - 1.0) < 0.03
+        assert abs(gf - gc) < 0.005 * DGAMMA
 
 
 def test_trailing_release_rate_where_it_changes_sign():

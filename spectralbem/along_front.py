@@ -16,7 +16,8 @@ from . import kernels
 from .bands import bands
 from .front import front_length_weights
 
-__all__ = ["band_widths", "layer_weights", "straight_front_weights", "upper_band",
+__all__ = ["band_widths", "layer_weights", "straight_front_weights", "bands_reach",
+           "upper_band",
            "patch_sigmas", "smooth_along_front", "front_average", "WIDTH_SMOOTHING",
            "WIDTH_RANGE", "FRONT_GRAPH", "STRAIGHT_FRONT_DENOMINATOR",
            "STRAIGHT_FRONT_CELLS"]
@@ -100,7 +101,10 @@ def layer_weights(b, a0: float, normal) -> tuple:
     axis-aligned front with a0 = (m + θ) h this is the whole-layer weight θ of
     bands.band_split."""
     hx, hy = b.spacing
-    phi_t, th_out, th_in = straight_front_weights(round(a0 / hx, 12), round(hy / hx, 12))
+    # the key rounded relatively (a0/hx and hy/hx of any size keep 12 digits, far inside
+    # the table's 1e-9 h of tolerance); a strip (one cell across) has fronts along its axis
+    phi_t, th_out, th_in = straight_front_weights(
+        float(f"{a0 / hx:.12g}"), float(f"{hy / hx:.12g}"), min(b.mask.shape) > 1)
     out = []
     for front, th in ((b.outer_front, th_out), (b.inner_front, th_in)):
         phi = np.arctan2(np.abs(normal[1][front]), np.abs(normal[0][front]))
@@ -117,7 +121,7 @@ STRAIGHT_FRONT_CELLS = 2**20
 
 
 @lru_cache(maxsize=16)
-def straight_front_weights(a0_cells: float, aspect: float) -> tuple:
+def straight_front_weights(a0_cells: float, aspect: float, oblique: bool = True) -> tuple:
     """(φ, θ_outer, θ_inner), sorted by φ: for straight digital fronts whose normal makes
     the angle φ ∈ [0, π/2] with the x axis (in metres: φ = atan2(|n_y|, |n_x|)), the weight
     θ of the band of :func:`upper_band` that makes the interpolation (1 − θ) w_lo + θ w_hi of
@@ -125,17 +129,20 @@ def straight_front_weights(a0_cells: float, aspect: float) -> tuple:
     (inner) side.  The widths are areas per front length over whole periods of periodic
     stripes ((i p − j q) mod M < M/2 on a (M/gcd(M, p)) × (M/gcd(M, q)) cell grid, every
     offset of the digital line once), cells of hx = 1 and hy = ``aspect`` with a0 =
-    ``a0_cells`` hx.  θ may lie outside [0, 1] where the two bands do not bracket a0
-    (a0 ≳ 8 cells at some orientations; :func:`layer_weights` clips).  Oblique orientations
-    whose grid would exceed :data:`STRAIGHT_FRONT_CELLS` cells are left out (a0 beyond
-    about 68 cells); the axes never are, so that a band of any a0 has a table."""
+    ``a0_cells`` hx.  The wider band reaches one cell along the normal on an axis and one
+    cell of the coarser axis on an oblique front (as :func:`bands_reach`).  θ may lie
+    outside [0, 1] where the two bands do not bracket a0 (a0 ≳ 6 cells at some
+    orientations; :func:`layer_weights` clips).  Oblique orientations whose grid would
+    exceed :data:`STRAIGHT_FRONT_CELLS` cells are left out (a0 beyond about 68 cells), and
+    all of them without ``oblique`` (a strip); the axes never are, so that a band of any
+    a0 has a table.  The arrays are read-only (cached)."""
     hx, hy = 1.0, float(aspect)
-    hmin = min(hx, hy)
+    hmin, hmax = min(hx, hy), max(hx, hy)
     a0 = float(a0_cells) * hx
     tol = 1e-9 * hmin
     qmax = STRAIGHT_FRONT_DENOMINATOR
     pairs = [(0, 1), (1, 0)] + [(p, q) for p in range(1, qmax + 1)
-                                for q in range(1, qmax + 1) if gcd(p, q) == 1]
+                                for q in range(1, qmax + 1) if oblique and gcd(p, q) == 1]
     rows = []
     for p, q in pairs:
         grad = np.hypot(p / hx, q / hy)  # |∇s| of s = i p − j q (per metre)
@@ -147,7 +154,7 @@ def straight_front_weights(a0_cells: float, aspect: float) -> tuple:
             continue  # a0 of tens of cells: this orientation is left to the interpolation
         i, j = np.indices((nx, ny))
         mask = np.mod(i * p - j * q, M) < M // 2
-        b = bands(mask, hx, hy, a0, reach=a0 + hmin)
+        b = bands(mask, hx, hy, a0, reach=a0 + (hy if not p else hx if not q else hmax))
         upper = upper_band(b, a0)
         length = 2 * nx * ny * hx * hy * grad / M  # both edges of every stripe
         th = []
@@ -158,7 +165,17 @@ def straight_front_weights(a0_cells: float, aspect: float) -> tuple:
             th.append((a0 - w_lo) / (w_hi - w_lo) if w_hi > w_lo + tol else 0.0)
         rows.append((np.arctan2(q / hy, p / hx), th[0], th[1]))
     rows.sort()
-    return tuple(np.array(c) for c in zip(*rows, strict=True))
+    out = tuple(np.array(c) for c in zip(*rows, strict=True))
+    for c in out:
+        c.flags.writeable = False
+    return out
+
+
+def bands_reach(a0: float, hx: float, hy: float, shape) -> float:
+    """The reach (m) of the bands of a test whose band is exactly a0 wide: a0 and one cell
+    of the coarser axis that has more than one cell, so that the wider band
+    (:func:`upper_band`) holds the next layer along either axis."""
+    return a0 + max(h for h, n in ((hx, shape[0]), (hy, shape[1]), (min(hx, hy), 2)) if n > 1)
 
 
 def _slots(cells: np.ndarray, idx: np.ndarray) -> tuple:

@@ -36,6 +36,7 @@ from scipy import ndimage
 from .adjoint import complete_adjoint
 from .along_front import (
     band_widths,
+    bands_reach,
     front_average,
     layer_weights,
     upper_band,
@@ -414,7 +415,8 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     dg = np.asarray(dgamma, dtype=float)
     hmin = min(cell.hx, cell.hy)
     exact = exact_width(op, a0) if exact is None else exact
-    b = bands(mask, cell.hx, cell.hy, a0, reach=a0 + hmin if exact else None)
+    b = bands(mask, cell.hx, cell.hy, a0,
+              reach=bands_reach(a0, cell.hx, cell.hy, mask.shape) if exact else None)
     if u is None:
         u = op.apply(p)
     if starts is not None:

@@ -366,6 +366,51 @@ def test_viscoelastic_band_is_a0_wide_at_every_orientation(a0_cells, slope):
     assert open_ == pytest.approx(1.0, abs=2e-3)
 
 
+@pytest.mark.parametrize("a0_cells", [2.5, 3.2])
+@pytest.mark.parametrize("direction", [(1, 0), (0, 1), (1, 1), (1, 2), (2, 1)])
+def test_viscoelastic_band_is_a0_wide_on_anisotropic_cells(direction, a0_cells):
+    """Cells twice as long along y as along x (hy = 2 hx), a0 in units of hx: the straight
+    periodic fronts (a i + b j) mod n < n/2 at 0°, 90°, 27°, 45° and 63° to the x axis
+    (normals in metres) have closing and opening bands a0 wide per true front length within
+    0.2 % (measured: within 1e-4).  The wider band reaches one cell of the coarser axis
+    (along_front.bands_reach): with the reach of one fine cell it held no second layer where
+    the normal runs along y, θ read 0 there and the band was ⌊a0/hy⌋ hy wide (0.8 a0 at
+    a0 = 2.5 hx), and rounding the table's key absolutely gave θ = 1 in place of 0 for
+    hy ≪ hx and a0 a whole number of layers (1.5 a0)."""
+    from spectralbem.criterion import front_tests
+    from spectralbem.materials import StandardLinearSolid
+    from spectralbem.spectral import Cell, SpectralOperator
+
+    n, (a, b) = 96, direction
+    hx, hy = 1.0 / n, 2.0 / n
+    i, j = np.indices((n, n))
+    mask = (a * i + b * j) % n < n // 2
+    op = SpectralOperator(Cell(1.0, 2.0, n, n), StandardLinearSolid(1.0, 10.0, 1.0, 0.0),
+                          velocity=(0.05, 0.0))
+    t = front_tests(op, np.zeros(mask.shape), mask, np.zeros(mask.shape), 1.0, a0_cells * hx,
+                    adjoint=False)
+    length = 2 * n * hx * hy * np.hypot(a / hx, b / hy)  # both edges of the one stripe
+    for tests in (t.closing, t.opening):
+        area = sum(tests[c].area for c in tests)
+        assert area == pytest.approx(a0_cells * hx * length, rel=2e-3)
+
+
+def test_straight_front_table_key_keeps_whole_layers_on_fine_y_cells():
+    """hy = hx · 2/3000, a0 = 2 hy: a whole number of layers along y, θ = 0 at 90° (the
+    band within a0 alone); the key rounded to 12 decimals of a0/hx put the table's a0 a
+    round-off below two layers there and read θ = 1 (a band 1.5 a0 wide)."""
+    from spectralbem.along_front import layer_weights
+    from spectralbem.bands import bands
+
+    hx = 1e-3
+    hy = hx * 2 / 3000
+    mask = np.zeros((1, 32), bool)
+    mask[0, 8:24] = True
+    b = bands(mask, hx, hy, 2 * hy, reach=3 * hy)
+    th_out, th_in = layer_weights(b, 2 * hy, b.normal)
+    assert np.all(th_out == 0.0) and np.all(th_in == 0.0)
+
+
 @pytest.mark.parametrize("a0_cells", [1.5, 3.0, 6.4])
 @pytest.mark.parametrize("radius", [20.3, 40.3])
 def test_viscoelastic_band_of_a_disc_is_the_advance_of_its_edge(radius, a0_cells):

@@ -183,7 +183,8 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              *resolution_table(runs),
              "![refinement](figures/rough_convergence.png)", "",
              "The figure: area fraction, μ, the release rates, μ_a at the path's three states "
-             "and the crack-tip length it is summed over against N (open markers: "
+             "and the crack-tip length it is summed over against N, from the runs with the "
+             "advance band (open markers: "
              "states not verified; dashed: the coarse-grid start; stars and crosses: the "
              "elastic edge extrapolated to a0 → 0, `--extrapolate-a0`; the elastic a0 = one cell "
              "row is the scan below; μ's u-form, −Σ p v̂·∇u on the mask, is drawn for "
@@ -371,7 +372,8 @@ def _plot(ax, ns, vals, ok, label, style="-", marker="o", color=None):
 
 def figure(runs: list, scans: list, out: Path) -> None:
     """Area fraction, μ, G1, G2, μ_a and the crack-tip length against N from the JSON
-    (docs/rough_convergence.md)."""
+    (docs/rough_convergence.md): the runs of the current band rule (:data:`BANDS`) only."""
+    runs = [r for r in runs if r.get("bands", "width") == BANDS]
     import matplotlib
 
     matplotlib.use("Agg")
@@ -391,7 +393,8 @@ def figure(runs: list, scans: list, out: Path) -> None:
     one = sorted((r for r in scans if r["a0_cells"] == 1 and r["sigma"] is None),
                  key=lambda r: r["N"])
     _plot(ae, [r["N"] for r in one], [r["area_fraction"] for r in one],
-          [r["status"] == "partial" for r in one], "loading, a0 = one cell", ":", "^", "C2")
+          [r["status"] == "partial" for r in one],
+          "loading, a0 = one cell (before the advance band)", ":", "^", "C2")
     _plot(ae, *_series(runs, "elastic", 0, "area_fraction", a0=A0 / 2),
           f"loading, a0 = {A0 / 2 * 1e6:.2g} µm", "-.", "v", "C4")
     for k, col, mk in ((0, "C0", "*"), (2, "C3", "P")):  # the edge extrapolated to a0 → 0

@@ -17,9 +17,8 @@ from .bands import bands
 from .front import front_length_weights
 
 __all__ = ["band_widths", "layer_weights", "straight_front_weights", "bands_reach",
-           "upper_band",
-           "patch_sigmas", "smooth_along_front", "front_average", "WIDTH_SMOOTHING",
-           "WIDTH_RANGE", "FRONT_GRAPH", "STRAIGHT_FRONT_DENOMINATOR",
+           "upper_band", "patch_sigmas", "smooth_along_front", "front_average",
+           "WIDTH_SMOOTHING", "WIDTH_RANGE", "FRONT_GRAPH", "STRAIGHT_FRONT_DENOMINATOR",
            "STRAIGHT_FRONT_CELLS"]
 
 #: average along the front graph (True) or with a grid Gaussian restricted to front cells

@@ -74,10 +74,10 @@ class Bands:
     def normal(self) -> tuple:
         """Outward unit normal (nx, ny) of A: minus the gradient of its indicator smoothed
         by a Gaussian of σ = 2 cells, as the convolution with the Gaussian's derivative
-        (isotropic: on straight digital fronts at 0-79° to the grid within 0.06° of the
-        normal, where centred differences of the smoothed indicator turn it by up to 0.6°
-        towards the nearer axis); on the whole grid (meaningful on the front cells),
-        computed on demand (two N² arrays)."""
+        (no bias in angle: on straight digital fronts at 0-79° to the grid the front cells'
+        mean angle is within 0.06° of the normal's, where centred differences of the
+        smoothed indicator turned it by up to 0.6° towards the nearer axis); on the whole
+        grid (meaningful on the front cells), computed on demand (two N² arrays)."""
         hx, hy = self.spacing
         gx = ndimage.gaussian_filter(self.mask, sigma=2.0, order=(1, 0), mode="wrap",
                                      output=np.float64)

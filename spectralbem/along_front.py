@@ -13,11 +13,11 @@ import numpy as np
 from scipy import ndimage
 
 from . import kernels
-from .bands import bands
+from .bands import bands, bands_reach
 from .front import front_length_weights
 
-__all__ = ["band_widths", "layer_weights", "straight_front_weights", "bands_reach",
-           "upper_band", "patch_sigmas", "smooth_along_front", "front_average",
+__all__ = ["band_widths", "layer_weights", "straight_front_weights", "upper_band",
+           "patch_sigmas", "smooth_along_front", "front_average",
            "WIDTH_SMOOTHING", "WIDTH_RANGE", "FRONT_GRAPH", "STRAIGHT_FRONT_DENOMINATOR",
            "STRAIGHT_FRONT_CELLS"]
 
@@ -128,15 +128,14 @@ def straight_front_weights(a0_cells: float, aspect: float, oblique: bool = True)
     (inner) side.  The widths are areas per front length over whole periods of periodic
     stripes ((i p − j q) mod M < M/2 on a (M/gcd(M, p)) × (M/gcd(M, q)) cell grid, every
     offset of the digital line once), cells of hx = 1 and hy = ``aspect`` with a0 =
-    ``a0_cells`` hx.  The wider band reaches one cell along the normal on an axis and one
-    cell of the coarser axis on an oblique front (as :func:`bands_reach`).  θ may lie
+    ``a0_cells`` hx, the bands reaching as the front tests' (bands.bands_reach).  θ may lie
     outside [0, 1] where the two bands do not bracket a0 (a0 ≳ 6 cells at some
     orientations; :func:`layer_weights` clips).  Oblique orientations whose grid would
     exceed :data:`STRAIGHT_FRONT_CELLS` cells are left out (a0 beyond about 68 cells), and
     all of them without ``oblique`` (a strip); the axes never are, so that a band of any
     a0 has a table.  The arrays are read-only (cached)."""
     hx, hy = 1.0, float(aspect)
-    hmin, hmax = min(hx, hy), max(hx, hy)
+    hmin = min(hx, hy)
     a0 = float(a0_cells) * hx
     tol = 1e-9 * hmin
     qmax = STRAIGHT_FRONT_DENOMINATOR
@@ -153,7 +152,7 @@ def straight_front_weights(a0_cells: float, aspect: float, oblique: bool = True)
             continue  # a0 of tens of cells: this orientation is left to the interpolation
         i, j = np.indices((nx, ny))
         mask = np.mod(i * p - j * q, M) < M // 2
-        b = bands(mask, hx, hy, a0, reach=a0 + (hy if not p else hx if not q else hmax))
+        b = bands(mask, hx, hy, a0, reach=bands_reach(a0, hx, hy, mask.shape))
         upper = upper_band(b, a0)
         length = 2 * nx * ny * hx * hy * grad / M  # both edges of every stripe
         th = []
@@ -169,12 +168,6 @@ def straight_front_weights(a0_cells: float, aspect: float, oblique: bool = True)
         c.flags.writeable = False
     return out
 
-
-def bands_reach(a0: float, hx: float, hy: float, shape) -> float:
-    """The reach (m) of the bands of a test whose band is exactly a0 wide: a0 and one cell
-    of the coarser axis that has more than one cell, so that the wider band
-    (:func:`upper_band`) holds the next layer along either axis."""
-    return a0 + max(h for h, n in ((hx, shape[0]), (hy, shape[1]), (min(hx, hy), 2)) if n > 1)
 
 
 def _slots(cells: np.ndarray, idx: np.ndarray) -> tuple:

@@ -11,7 +11,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
-__all__ = ["Bands", "bands", "band_split", "band_weights", "colours", "front_cells"]
+__all__ = ["Bands", "bands", "bands_reach", "band_split", "band_weights", "colours",
+           "front_cells"]
 
 
 def _wrap_edt(free: np.ndarray, sampling, pad: int, indices: bool = True):
@@ -112,6 +113,14 @@ def band_weights(a0: float, hx: float, hy: float) -> list:
     width a0 (one entry when a0/h is whole)."""
     m, theta = band_split(a0, hx, hy)
     return [(m, 1.0)] if theta == 0.0 else [(m, 1.0 - theta), (m + 1, theta)]
+
+
+def bands_reach(a0: float, hx: float, hy: float, shape) -> float:
+    """The reach (m) of the bands of a test whose band is exactly a0 wide (the cells within
+    a0 and one digital layer more, along_front.layer_weights): a0 and one cell of the
+    coarser axis that has more than one cell, so that the wider band holds the next layer
+    along either axis."""
+    return a0 + max(h for h, n in ((hx, shape[0]), (hy, shape[1]), (min(hx, hy), 2)) if n > 1)
 
 
 def bands(mask: np.ndarray, hx: float, hy: float, a0: float, reach: float | None = None

@@ -36,7 +36,6 @@ from scipy import ndimage
 from .adjoint import complete_adjoint
 from .along_front import (
     band_widths,
-    bands_reach,
     front_average,
     layer_weights,
     upper_band,
@@ -47,6 +46,7 @@ from .bands import (  # noqa: F401  (front_cells, band_split: part of this modul
     band_split,
     band_weights,
     bands,
+    bands_reach,
     colours,
     front_cells,
 )

@@ -303,48 +303,33 @@ def test_release_rates_before_the_adjoint_split_are_nan():
     assert np.all(G[t.bands.outer_front] == 1.0) and G1 == 1.0 and G2 == 1.0
 
 
-def _visco_band(mask, a0_cells):
-    """The closing tests of a viscoelastic scene on ``mask`` (no load: the band areas do
-    not depend on the fields): (front length, band areas per colour, widths) in cells."""
+def _visco_band_areas(mask, a0: float, ly: float = 1.0):
+    """(closing, opening) band areas (m²) and the front tests' bands of a viscoelastic scene
+    on ``mask`` in a cell of 1 × ``ly`` (no load: the band areas do not depend on the
+    fields)."""
     from spectralbem.criterion import front_tests
-    from spectralbem.front import front_length_weights
     from spectralbem.materials import StandardLinearSolid
     from spectralbem.spectral import Cell, SpectralOperator
 
-    n = mask.shape[0]
-    op = SpectralOperator(Cell(1.0, 1.0, n, n), StandardLinearSolid(1.0, 10.0, 1.0, 0.0),
+    op = SpectralOperator(Cell(1.0, ly, *mask.shape), StandardLinearSolid(1.0, 10.0, 1.0, 0.0),
                           velocity=(0.05, 0.0))
-    h = 1.0 / n
-    t = front_tests(op, np.zeros(mask.shape), mask, np.zeros(mask.shape), 1.0, a0_cells * h,
-                    adjoint=False)
-    b = t.bands
-    ds = front_length_weights(b.normal, h, h)
-    length = float(ds[b.outer_front].sum()) / h
-    areas = sum(t.closing[c].area for c in t.closing) / h**2
-    return length, areas, t.width_out[b.outer_front] / h
+    z = np.zeros(mask.shape)
+    t = front_tests(op, z, mask, z, 1.0, a0, adjoint=False)
+    return (sum(t.closing[c].area for c in t.closing),
+            sum(t.opening[c].area for c in t.opening), t.bands)
 
 
 def _straight_front_bands(slope: int, a0_cells: float, n: int = 120):
     """(closing, opening band areas per true front length, in a0; the outer front cells'
     normal angles, degrees) of the viscoelastic tests of the straight periodic stripe
     (i + slope j) mod n < n/2, whose two edges are n √(1 + slope²) cells long each."""
-    from spectralbem.criterion import front_tests
-    from spectralbem.materials import StandardLinearSolid
-    from spectralbem.spectral import Cell, SpectralOperator
-
     i, j = np.indices((n, n))
-    mask = (i + slope * j) % n < n // 2
-    op = SpectralOperator(Cell(1.0, 1.0, n, n), StandardLinearSolid(1.0, 10.0, 1.0, 0.0),
-                          velocity=(0.05, 0.0))
     h = 1.0 / n
-    t = front_tests(op, np.zeros(mask.shape), mask, np.zeros(mask.shape), 1.0, a0_cells * h,
-                    adjoint=False)
+    closing, opening, b = _visco_band_areas((i + slope * j) % n < n // 2, a0_cells * h)
     length = 2 * n * np.hypot(1.0, slope) * a0_cells * h**2  # both edges
-    nx, ny = t.bands.normal
-    front = t.bands.outer_front
-    phi = np.degrees(np.arctan2(np.abs(ny[front]), np.abs(nx[front])))
-    return (sum(t.closing[c].area for c in t.closing) / length,
-            sum(t.opening[c].area for c in t.opening) / length, phi)
+    nx, ny = b.normal
+    phi = np.degrees(np.arctan2(np.abs(ny[b.outer_front]), np.abs(nx[b.outer_front])))
+    return closing / length, opening / length, phi
 
 
 @pytest.mark.parametrize("a0_cells", [1.0, 1.5, 2.0, 3.0, 4.7])
@@ -373,25 +358,16 @@ def test_viscoelastic_band_is_a0_wide_on_anisotropic_cells(direction, a0_cells):
     periodic fronts (a i + b j) mod n < n/2 at 0°, 90°, 27°, 45° and 63° to the x axis
     (normals in metres) have closing and opening bands a0 wide per true front length within
     0.2 % (measured: within 1e-4).  The wider band reaches one cell of the coarser axis
-    (along_front.bands_reach): with the reach of one fine cell it held no second layer where
+    (bands.bands_reach): with the reach of one fine cell it held no second layer where
     the normal runs along y, θ read 0 there and the band was ⌊a0/hy⌋ hy wide (0.8 a0 at
     a0 = 2.5 hx), and rounding the table's key absolutely gave θ = 1 in place of 0 for
     hy ≪ hx and a0 a whole number of layers (1.5 a0)."""
-    from spectralbem.criterion import front_tests
-    from spectralbem.materials import StandardLinearSolid
-    from spectralbem.spectral import Cell, SpectralOperator
-
     n, (a, b) = 96, direction
     hx, hy = 1.0 / n, 2.0 / n
     i, j = np.indices((n, n))
-    mask = (a * i + b * j) % n < n // 2
-    op = SpectralOperator(Cell(1.0, 2.0, n, n), StandardLinearSolid(1.0, 10.0, 1.0, 0.0),
-                          velocity=(0.05, 0.0))
-    t = front_tests(op, np.zeros(mask.shape), mask, np.zeros(mask.shape), 1.0, a0_cells * hx,
-                    adjoint=False)
+    areas = _visco_band_areas((a * i + b * j) % n < n // 2, a0_cells * hx, ly=2.0)[:2]
     length = 2 * n * hx * hy * np.hypot(a / hx, b / hy)  # both edges of the one stripe
-    for tests in (t.closing, t.opening):
-        area = sum(tests[c].area for c in tests)
+    for area in areas:
         assert area == pytest.approx(a0_cells * hx * length, rel=2e-3)
 
 
@@ -419,25 +395,18 @@ def test_viscoelastic_band_of_a_disc_is_the_advance_of_its_edge(radius, a0_cells
     sweeps when it recedes, π(r² − (r − a0)²) (r from the mask's area): the band keeps the
     curvature's a0 (1 ± a0/2r) per front length, 4-16 % here, and corrects only the
     lattice's deficit on oblique parts of the front.  Within 1 % at r = 20 cells and 0.7 %
-    at 40 (measured ≤ 0.80 % and ≤ 0.52 %, 0.33 % at 80: the digital disc's own error).  The rule
-    that made every front cell's band a0 wide put them 4-16 % off, and the release rates of
-    a concave front (a non-contact lake) drifted with N at fixed a0 (docs/theory.md)."""
-    from spectralbem.criterion import front_tests
-    from spectralbem.materials import StandardLinearSolid
-    from spectralbem.spectral import Cell, SpectralOperator
-
+    at 40 (measured ≤ 0.80 % and ≤ 0.52 %, 0.33 % at 80: the digital disc's own
+    error).  The rule that made every front cell's band a0 wide put them 4-16 % off, and
+    the release rates of a concave front (a non-contact lake) drifted with N at fixed a0
+    (docs/theory.md)."""
     n = int(2 * (radius + a0_cells) + 16)
     n += n % 2
-    op = SpectralOperator(Cell(1.0, 1.0, n, n), StandardLinearSolid(1.0, 10.0, 1.0, 0.0),
-                          velocity=(0.05, 0.0))
     h = 1.0 / n
     i, j = np.indices((n, n))
     mask = np.hypot(i - n / 2 + 0.27, j - n / 2 + 0.11) < radius
-    t = front_tests(op, np.zeros(mask.shape), mask, np.zeros(mask.shape), 1.0, a0_cells * h,
-                    adjoint=False)
+    closing, opening, _ = _visco_band_areas(mask, a0_cells * h)
+    closing, opening = closing / h**2, opening / h**2
     r = np.sqrt(mask.sum() / np.pi)
-    closing = sum(t.closing[c].area for c in t.closing) / h**2
-    opening = sum(t.opening[c].area for c in t.opening) / h**2
     tol = 0.01 if radius < 40 else 0.007
     assert closing == pytest.approx(np.pi * ((r + a0_cells) ** 2 - r**2), rel=tol)
     assert opening == pytest.approx(np.pi * (r**2 - (r - a0_cells) ** 2), rel=tol)

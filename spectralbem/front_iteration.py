@@ -433,8 +433,13 @@ class FrontIteration:
         return self._move(add, remove)
 
     def _move(self, add, remove) -> str:
-        """The mask follows the balance: ``add`` cells join, ``remove`` cells leave."""
+        """The mask follows the balance: ``add`` cells join, ``remove`` cells leave.  The
+        load correction is the load of the old mask's sub-cell offsets, and the new mask's
+        edge lies at the balanced edge's nearest cells: it starts from none (kept, a
+        correction grown on one balanced mask (to 22 times the load on a 32² SLS sphere)
+        was carried by the next masks, which receded under it to detachment)."""
         self.mask = (self.mask | add) & ~remove
+        self.corr = 0.0
         self.last_change = add | remove
         # the tests and bands of the old mask: freed before the next state's solves
         self.tests = self.res_out = None
@@ -478,10 +483,11 @@ class FrontIteration:
     def _correct_load(self, new_corr, add, remove) -> str:
         """Balanced on this mask: the front's load correction moves Δ (updated only here,
         never with the mask moving: a correction that lags a moving mask makes the edges
-        cycle); a new Δ makes new states.  Where the front's load jumps across the
-        prescribed one on this mask (:class:`~spectralbem.moves.LoadCorrection`), the mask
-        moves once to the nearest cell centres of the balanced edge (``add``, ``remove``:
-        the moves without the acceptance band), and a second jump ends the solve."""
+        cycle; a mask that moves starts from none, :meth:`_move`); a new Δ makes new
+        states.  Where the front's load jumps across the prescribed one on this mask
+        (:class:`~spectralbem.moves.LoadCorrection`), the mask moves once to the nearest
+        cell centres of the balanced edge (``add``, ``remove``: the moves without the
+        acceptance band), and a second jump ends the solve."""
         if self.it == self.max_outer:
             self.message = f"not converged in {self.max_outer} outer iterations (load)"
             return _BREAK

@@ -94,7 +94,12 @@ class AdhesiveState(ContactState):
 
     ``mean_pressure`` is the load the sub-cell front carries (the mask state's under
     penetration control or when unverified); ``iterations`` counts the front's outer
-    iterations, ``solves`` the masked solves."""
+    iterations, ``solves`` the masked solves.  ``mu``, ``mu_lateral``, ``mu_profile`` and
+    ``mu_dissipation`` are the mask state's (its fields over its own normal force Σ p,
+    which under load control is the front's load minus the load correction): a scene's
+    dataset reports the force on the profile at the balanced sub-cell front over the
+    front's load (:func:`spectralbem.results.front_friction`, from the band states'
+    ``observables``), as it reports the front's area (:func:`spectralbem.front.front_outputs`)."""
 
     tests: FrontTest | None = None  # the band tests of the final state
     offset_out: np.ndarray | None = None  # balanced edge − mask edge on outer front cells (m)

@@ -505,7 +505,7 @@ def test_load_correction_at_a_jump_of_the_front_load(load, direction, converged)
     by non-penetration flips with Δ).  The substitution of the load correction cycled
     between two Δ to the 500-iteration guard (7-10 CPU-s each); now the bracketed
     correction names the jump within a few corrections, the mask moves once to the
-    balanced edge's nearest cells (from no correction), and the solve converges (3500 Pa,
+    balanced edge's nearest cells (from no load correction), and the solve converges (3500 Pa,
     10 kPa at 135°, 2300 Pa: it ended at the second jump while the moved mask kept the
     jump's correction) or ends at the second jump, not_converged with the reason (6000 Pa
     at 135°).  A converged state carries the prescribed load to LOAD_TOL."""
@@ -534,9 +534,9 @@ def test_a_moved_mask_does_not_carry_the_load_correction_of_the_last(load):
     load changes a tenth as fast as Δ there) to 22 times the load, until the front left the
     acceptance band; the masks after it, solved at that stale correction (a tension of 21
     times the load), receded to detachment: not_converged.  The correction belongs to the
-    offsets of the mask it was measured on, and a moved mask starts from none: the state
-    converges (30 and 74 outer iterations measured) and carries the prescribed load to
-    the load tolerance."""
+    offsets of the mask it was measured on, and a moved mask keeps only the part of the
+    front cells the move leaves standing: the state converges (72 and 24 outer iterations
+    measured) and carries the prescribed load to the load tolerance."""
     from spectralbem.adhesive import solve_adhesive
     from spectralbem.front_iteration import LOAD_TOL
     from spectralbem.materials import StandardLinearSolid

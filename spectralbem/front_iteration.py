@@ -453,7 +453,7 @@ class FrontIteration:
         whole, a correction grown on one balanced mask (to 22 times the load on a 32² SLS
         sphere) was carried by the next masks, which receded under it to detachment;
         dropped on every move, each move of a few cells undid the last correction (the
-        512² elastic loading state took 66 outer iterations instead of 38)."""
+        rough elastic loading state at 512² took 66 outer iterations instead of 34)."""
         if self.mean_pressure is None or self.tests is None or self.res_out is None:
             return 0.0
         near = ndimage.maximum_filter(change.view(np.uint8), size=3, mode="wrap") > 0
@@ -499,11 +499,12 @@ class FrontIteration:
     def _correct_load(self, new_corr, add, remove) -> str:
         """Balanced on this mask: the front's load correction moves Δ (updated only here,
         never with the mask moving: a correction that lags a moving mask makes the edges
-        cycle; a mask that moves starts from none, :meth:`_move`); a new Δ makes new
-        states.  Where the front's load jumps across the prescribed one on this mask
-        (:class:`~spectralbem.moves.LoadCorrection`), the mask moves once to the nearest
-        cell centres of the balanced edge (``add``, ``remove``: the moves without the
-        acceptance band), and a second jump ends the solve."""
+        cycle; a mask that moves keeps the part of the front cells it leaves standing,
+        :meth:`_kept_correction`); a new Δ makes new states.  Where the front's load jumps
+        across the prescribed one on this mask (:class:`~spectralbem.moves.LoadCorrection`),
+        the mask moves once to the nearest cell centres of the balanced edge (``add``,
+        ``remove``: the moves without the acceptance band, from no correction), and a
+        second jump ends the solve."""
         if self.it == self.max_outer:
             self.message = f"not converged in {self.max_outer} outer iterations (load)"
             return _BREAK

@@ -223,10 +223,11 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "0.1 % and 0.1 %, G1 and G2 by ≤ 0.6 % and 0.7 %; μ_a by 4.5 % and 1.4 % (1, 2 "
              "and 4 cells per vτ). The elastic loading area at a0 = 7.8 µm, edge "
              "extrapolated, moves by 0.6 % and 1.0 % from 256² to 512² to 1024² (2, 4 and 8 "
-             "cells per a0; at 8 cells the weight of the band's outer layer is clipped at "
-             "16 of the table's 186 orientation-sides, `along_front.straight_front_weights`, "
-             "so the band is narrower than a0 there); at 3.9 µm it is 1.1 % and 0.9 % smaller "
-             "at 256² and 512² (a0, numerical here, is not yet small against the patches).",
+             "cells per a0; at 8 cells the band is up to 1.2 % narrower than a0 on fronts "
+             "near the slopes 1/3 and 3/10, where the weight of its outer layer is clipped "
+             "at 1, `along_front.straight_front_weights`); at 3.9 µm it is 1.1 % and 0.9 % "
+             "smaller at 256² and 512² (a0, numerical here, is not yet small against the "
+             "patches).",
              "- **The state at a load is not unique.** Adhesion makes the contact "
              "hysteretic: at 1e4 Pa the elastic unloading state holds 6.0 % and 4.6 % more area "
              "than the loading state at 256² and 512² (both balanced; up to 11 % with the a0 "

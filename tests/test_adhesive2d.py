@@ -229,8 +229,7 @@ def test_jkr_sphere_along_a_load_unload_path():
     loading and on unloading, the two branches within 0.5 % of each other at the same load
     (the JKR branch has no hysteresis: any gap is lattice trapping), and the load-control
     pull-off lies within 2 % of Pc (measured: radius errors +0.17 %, −0.08 %, −0.13 %,
-    +0.03 %, +0.24 %; pull-off between 1.003 and 1.008 Pc by bisection, measured with the
-    front normal of centred differences)."""
+    +0.03 %, +0.24 %; pull-off between 1.003 and 1.008 Pc by bisection, `make validate`)."""
     from spectralbem.validate import W_JKR, area_radius, jkr_cell
 
     cell, op, h, r, w = jkr_cell(512, W_JKR)

@@ -335,7 +335,7 @@ def test_unloading_toward_the_pull_off_stays_on_the_branch(monkeypatch):
     step from the partial state at −150 Pa to −232 Pa (1.5 % above the pull-off) stays on the
     branch without sub-steps, radius within 5 % of JKR's 55.1 µm (measured +3.6 %: JKR's
     radius at −227.6 Pa, 1.9 % of the load away, where da/dP → ∞ at the pull-off; reached via
-    −200 Pa +4.4 %, via −225 Pa +3.6 %).  It detached, even in three sub-step halvings, while
+    −200 Pa +5.8 %, via −225 Pa +3.6 %).  It detached, even in three sub-step halvings, while
     the load correction of one balanced mask was carried by the masks that followed it."""
     from pathlib import Path
 

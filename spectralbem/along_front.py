@@ -169,7 +169,6 @@ def straight_front_weights(a0_cells: float, aspect: float, oblique: bool = True)
     return out
 
 
-
 def _slots(cells: np.ndarray, idx: np.ndarray) -> tuple:
     """(slot, found): the position in the sorted flat cells ``cells`` of each of ``idx``, and
     whether it is listed there (slot is a valid index, 0, where it is not)."""

@@ -389,9 +389,7 @@ class FrontIteration:
                              float(self.delta)))
         load_ok, new_corr = True, self.corr
         if self.mean_pressure is not None:  # the load carried by the sub-cell front
-            pf = at_front(self.tests, np.where(res_out, self.s_out, np.nan),
-                          {"mean_pressure": float(self.p.mean())}, self.a0)
-            new_corr = pf["mean_pressure"] - float(self.p.mean())
+            new_corr = self._front_load() - float(self.p.mean())
             load_ok = abs(new_corr - self.corr) <= LOAD_TOL * float(np.abs(self.p).mean())
         if not res_out.any():  # no resolved patch: nothing verifies a balance
             self.rmax, self.frac = float("inf"), 0.0
@@ -454,13 +452,10 @@ class FrontIteration:
         sphere) was carried by the next masks, which receded under it to detachment;
         dropped on every move, each move of a few cells undid the last correction (the
         rough elastic loading state at 512² took 66 outer iterations instead of 34)."""
-        if self.mean_pressure is None or self.tests is None or self.res_out is None:
+        if self.mean_pressure is None:
             return 0.0
         near = ndimage.maximum_filter(change.view(np.uint8), size=3, mode="wrap") > 0
-        pm = float(self.p.mean())
-        kept = at_front(self.tests, np.where(self.res_out & ~near, self.s_out, np.nan),
-                        {"mean_pressure": pm}, self.a0)["mean_pressure"]
-        return kept - pm
+        return self._front_load(~near) - float(self.p.mean())
 
     def _converged(self, load_ok: bool = True) -> None:
         front_tol, rmax = self.front_tol, self.rmax
@@ -487,13 +482,15 @@ class FrontIteration:
                                f", not the prescribed {self.mean_pressure:.6g} Pa (the "
                                f"predictor corrects no load: not verified)"))
 
-    def _front_load(self) -> float:
+    def _front_load(self, standing=None) -> float:
         """The mean pressure the balanced sub-cell front carries (the mask's where the last
-        tests left no resolved front)."""
+        tests left no resolved front); with ``standing`` (bool, N²), of the resolved front
+        cells there only, the others at the mask's edge."""
         pm = float(self.p.mean())
         if self.tests is None or self.res_out is None:
             return pm
-        return at_front(self.tests, np.where(self.res_out, self.s_out, np.nan),
+        cells = self.res_out if standing is None else self.res_out & standing
+        return at_front(self.tests, np.where(cells, self.s_out, np.nan),
                         {"mean_pressure": pm}, self.a0)["mean_pressure"]
 
     def _correct_load(self, new_corr, add, remove) -> str:

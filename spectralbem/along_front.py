@@ -16,7 +16,8 @@ from . import kernels
 from .bands import bands, bands_reach
 from .front import front_length_weights
 
-__all__ = ["band_widths", "layer_weights", "straight_front_weights", "upper_band",
+__all__ = ["band_widths", "layer_weights", "straight_front_weights", "band_levels",
+           "band_levels_needed", "BAND_LEVELS",
            "patch_sigmas", "smooth_along_front", "front_average",
            "WIDTH_SMOOTHING", "WIDTH_RANGE", "FRONT_GRAPH", "STRAIGHT_FRONT_DENOMINATOR",
            "STRAIGHT_FRONT_CELLS"]
@@ -64,41 +65,64 @@ def band_widths(b, area, normal, sigma: float, a0: float):
     return area
 
 
-def upper_band(b, a0: float) -> np.ndarray:
-    """The cells of the wider band (bool, N²): those of ``b`` within the reach of their
-    front cell, the distance of the nearest band cell it owns beyond a0 — one digital layer
-    more along the normal (h further on an axis-aligned front, 0.6-0.8 h at 45°) — so
-    that the widths of the bands within a0 and within that reach bracket a0 closely at
-    every orientation (:func:`layer_weights`); all of ``b`` where a front cell owns none."""
+def band_levels(b, a0: float, top: int) -> np.ndarray:
+    """The level of each band cell of ``b`` (uint8, N²): 0 for the cells within a0 of the
+    other side, k ≤ ``top`` for those within the k-th reach of their front cell — the
+    distance of the nearest band cell it owns beyond the (k − 1)-th (the 0-th: a0), one
+    digital layer more along the normal each (h further on an axis-aligned front, 0.6-0.8 h
+    at 45°, a few hundredths of h at some slopes p/q of large p, q) — so that the widths of
+    the bands of levels ≤ k bracket a0 closely at every orientation
+    (:func:`layer_weights`); ``top + 1`` for band cells beyond, 255 off the bands.  The
+    k-th reach is at most that of bands.bands_reach with k levels (a front cell that owns
+    no cell between the two reaches takes all of its cells within it), so that a cell's
+    level does not depend on how far the bands of ``b`` reach."""
     hx, hy = b.spacing
     tol = 1e-9 * min(hx, hy)
-    reach = np.full(b.mask.size, np.inf)
-    out = np.zeros(b.mask.shape, bool)
+    out = np.full(b.mask.shape, 255, np.uint8)
+    flat = out.ravel()
     for owner, dist in ((b.outer_owner, b.outer_dist), (b.inner_owner, b.inner_dist)):
         own, d = owner.ravel(), dist.ravel()  # the two sides' owners are disjoint cells
         sel = np.flatnonzero(own >= 0)
-        beyond = sel[d[sel] > a0 + tol]
-        np.minimum.at(reach, own[beyond], d[beyond])
-        out.ravel()[sel] = d[sel] <= reach[own[sel]] + tol
+        o, ds = own[sel], d[sel]
+        level = np.where(ds <= a0 + tol, 0, top + 1).astype(np.uint8)
+        prev = np.full(b.mask.size, a0)  # the last reach of each front cell
+        for k in range(1, top + 1):
+            cap = bands_reach(a0, hx, hy, b.mask.shape, k)
+            reach = np.full(b.mask.size, cap)
+            beyond = (ds > prev[o] + tol) & (ds <= cap + tol)
+            np.minimum.at(reach, o[beyond], ds[beyond])
+            level[(level > k) & (ds <= reach[o] + tol)] = k
+            prev = reach
+        flat[sel] = level
     return out
 
 
+def band_levels_needed(a0: float, hx: float, hy: float, shape) -> int:
+    """The number of levels beyond a0 that the tests' bands must reach (at least one) for
+    the band to be a0 wide at every orientation of :func:`straight_front_weights` (one up to
+    a0 ≈ 5.7 cells, two from about 8, three from about 30)."""
+    _, lo, li = straight_front_weights(
+        float(f"{a0 / hx:.12g}"), float(f"{hy / hx:.12g}"), min(shape) > 1)
+    return max(1, int(np.ceil(max(lo.max(), li.max()) - 1e-12)))
+
+
 def layer_weights(b, a0: float, normal) -> tuple:
-    """(outer, inner): the weight θ of the wider band (:func:`upper_band`) on each outer and
-    inner front cell (packed, in the flat order of ``b.outer_front``, ``b.inner_front``),
-    the band of the cells within a0 weighing 1 − θ: the band of the front advanced by a0
-    along its normal, with the lattice's orientation deficit removed.
+    """(outer, inner): the level coordinate λ ∈ [0, :data:`BAND_LEVELS`] of the band on each
+    outer and inner front cell (packed, in the flat order of ``b.outer_front``,
+    ``b.inner_front``): the band of levels ≤ k (:func:`band_levels`) weighs
+    max(0, 1 − |λ − k|), so that λ = k + θ interpolates the bands of levels k and k + 1
+    with the weights 1 − θ and θ: the band of the front advanced by a0 along its normal,
+    with the lattice's orientation deficit removed.
 
     A band of reach r holds the cells whose centre lies within r of the other side's
     centres: on an axis-aligned front ⌊r/h⌋ h wide, on an oblique digital front less (at
-    45°, r = 2h holds two diagonal layers, √2 h wide; r = 3h four, 2√2 h).  θ is the weight
-    that makes the interpolated band exactly a0 wide on the straight digital front of the
-    front cell's normal (:func:`straight_front_weights`, interpolated in the normal's
-    angle); no curvature enters it, so on a curved front the band keeps the area of the
-    continuous front's advance, a0 (1 ± κa0/2) per length (wider on the convex side,
-    narrower on the concave one), as a band of the cells within a0 does as h → 0.  On an
-    axis-aligned front with a0 = (m + θ) h this is the whole-layer weight θ of
-    bands.band_split."""
+    45°, r = 2h holds two diagonal layers, √2 h wide; r = 3h four, 2√2 h).  λ makes the
+    interpolated band exactly a0 wide on the straight digital front of the front cell's
+    normal (:func:`straight_front_weights`, interpolated in the normal's angle); no
+    curvature enters it, so on a curved front the band keeps the area of the continuous
+    front's advance, a0 (1 ± κa0/2) per length (wider on the convex side, narrower on the
+    concave one), as a band of the cells within a0 does as h → 0.  On an axis-aligned front
+    with a0 = (m + θ) h this is the whole-layer weight θ of bands.band_split."""
     hx, hy = b.spacing
     # the key rounded relatively (a0/hx and hy/hx of any size keep 12 digits, far inside
     # the table's 1e-9 h of tolerance); a strip (one cell across) has fronts along its axis
@@ -107,33 +131,37 @@ def layer_weights(b, a0: float, normal) -> tuple:
     out = []
     for front, th in ((b.outer_front, th_out), (b.inner_front, th_in)):
         phi = np.arctan2(np.abs(normal[1][front]), np.abs(normal[0][front]))
-        out.append(np.clip(np.interp(phi, phi_t, th), 0.0, 1.0))
+        out.append(np.clip(np.interp(phi, phi_t, th), 0.0, BAND_LEVELS))
     return tuple(out)
 
 
 #: the straight digital fronts of :func:`straight_front_weights` run at the slopes p/q of
 #: cells with coprime 0 ≤ p, q ≤ this (93 orientations, 0.6-4.8° apart)
 STRAIGHT_FRONT_DENOMINATOR = 12
-#: ... on periodic grids of at most this many cells (all 93 up to a0 ≈ 68 cells; the two
+#: ... on periodic grids of at most this many cells (all 93 up to a0 ≈ 65 cells; the two
 #: axes at any a0)
 STRAIGHT_FRONT_CELLS = 2**20
+#: the most levels beyond a0 a band interpolates (:func:`band_levels`; at a0 = 68 cells
+#: the table's λ reaches 3.09)
+BAND_LEVELS = 4
 
 
 @lru_cache(maxsize=16)
 def straight_front_weights(a0_cells: float, aspect: float, oblique: bool = True) -> tuple:
-    """(φ, θ_outer, θ_inner), sorted by φ: for straight digital fronts whose normal makes
-    the angle φ ∈ [0, π/2] with the x axis (in metres: φ = atan2(|n_y|, |n_x|)), the weight
-    θ of the band of :func:`upper_band` that makes the interpolation (1 − θ) w_lo + θ w_hi of
-    its width and that of the band within a0 equal to a0 on the closing (outer) and opening
-    (inner) side.  The widths are areas per front length over whole periods of periodic
-    stripes ((i p − j q) mod M < M/2 on a (M/gcd(M, p)) × (M/gcd(M, q)) cell grid, every
-    offset of the digital line once), cells of hx = 1 and hy = ``aspect`` with a0 =
-    ``a0_cells`` hx, the bands reaching as the front tests' (bands.bands_reach).  θ may lie
-    outside [0, 1] where the two bands do not bracket a0 (a0 ≳ 6 cells at some
-    orientations; :func:`layer_weights` clips).  Oblique orientations whose grid would
-    exceed :data:`STRAIGHT_FRONT_CELLS` cells are left out (a0 beyond about 68 cells), and
-    all of them without ``oblique`` (a strip); the axes never are, so that a band of any
-    a0 has a table.  The arrays are read-only (cached)."""
+    """(φ, λ_outer, λ_inner), sorted by φ: for straight digital fronts whose normal makes
+    the angle φ ∈ [0, π/2] with the x axis (in metres: φ = atan2(|n_y|, |n_x|)), the level
+    coordinate λ = k + θ (:func:`layer_weights`) whose interpolation (1 − θ) w_k + θ w_k+1
+    of the widths of the bands of levels ≤ k and ≤ k + 1 (:func:`band_levels`) is a0 on the
+    closing (outer) and opening (inner) side.  The widths are areas per front length over
+    whole periods of periodic stripes ((i p − j q) mod M < M/2 on a (M/gcd(M, p)) ×
+    (M/gcd(M, q)) cell grid, every offset of the digital line once), cells of hx = 1 and hy
+    = ``aspect`` with a0 = ``a0_cells`` hx, the bands reaching :data:`BAND_LEVELS` layers
+    beyond a0 (bands.bands_reach).  λ ≤ 1 up to a0 ≈ 5.7 cells at every orientation; beyond,
+    some slopes of large p, q add only a few cells per layer and need more; λ =
+    :data:`BAND_LEVELS` where even those do not reach a0.  Oblique orientations whose grid
+    would exceed :data:`STRAIGHT_FRONT_CELLS` cells are left out (a0 beyond about 65
+    cells), and all of them without ``oblique`` (a strip); the axes never are, so that a
+    band of any a0 has a table.  The arrays are read-only (cached)."""
     hx, hy = 1.0, float(aspect)
     hmin = min(hx, hy)
     a0 = float(a0_cells) * hx
@@ -144,29 +172,51 @@ def straight_front_weights(a0_cells: float, aspect: float, oblique: bool = True)
     rows = []
     for p, q in pairs:
         grad = np.hypot(p / hx, q / hy)  # |∇s| of s = i p − j q (per metre)
-        need = int(np.ceil(4 * (a0 + 4 * hmin) * grad))  # stripes 2 (a0 + 4h) wide
+        # stripes 2 (a0 + (BAND_LEVELS + 3) h_n) wide, h_n = hx |n_x| + hy |n_y| the cell's
+        # thickness along the normal, at least a layer's spacing: each edge owns its bands
+        need = int(np.ceil(4 * (a0 * grad + (BAND_LEVELS + 3) * (p + q))))
         M = p * q * int(np.ceil(need / (p * q))) if p and q else max(need, 4)
         nx = M // gcd(M, p) if p else 4
         ny = M // gcd(M, q) if q else 4
-        if nx * ny > STRAIGHT_FRONT_CELLS and p and q:
-            continue  # a0 of tens of cells: this orientation is left to the interpolation
+        if nx * ny > STRAIGHT_FRONT_CELLS:
+            if p and q:
+                continue  # a0 of tens of cells: this orientation is left to the interpolation
+            # an axis: its layers lie h apart along the normal, the band within a0 holds
+            # ⌊a0/h⌋ of them (what the stripe gives, without its grid)
+            rows.append((np.arctan2(q / hy, p / hx), *[_axis_coordinate(
+                a0, hx if p else hy, tol)] * 2))
+            continue
         i, j = np.indices((nx, ny))
         mask = np.mod(i * p - j * q, M) < M // 2
-        b = bands(mask, hx, hy, a0, reach=bands_reach(a0, hx, hy, mask.shape))
-        upper = upper_band(b, a0)
+        b = bands(mask, hx, hy, a0,
+                  reach=bands_reach(a0, hx, hy, mask.shape, levels=BAND_LEVELS))
+        level = band_levels(b, a0, BAND_LEVELS)
         length = 2 * nx * ny * hx * hy * grad / M  # both edges of every stripe
-        th = []
-        for owner, dist in ((b.outer_owner, b.outer_dist), (b.inner_owner, b.inner_dist)):
-            side = owner >= 0
-            w_lo = np.count_nonzero(side & (dist <= a0 + tol)) * hx * hy / length
-            w_hi = np.count_nonzero(side & upper) * hx * hy / length
-            th.append((a0 - w_lo) / (w_hi - w_lo) if w_hi > w_lo + tol else 0.0)
-        rows.append((np.arctan2(q / hy, p / hx), th[0], th[1]))
+        rows.append((np.arctan2(q / hy, p / hx),
+                     *(_level_coordinate(level[owner >= 0], a0, hx * hy / length, tol)
+                       for owner in (b.outer_owner, b.inner_owner))))
     rows.sort()
     out = tuple(np.array(c) for c in zip(*rows, strict=True))
     for c in out:
         c.flags.writeable = False
     return out
+
+
+def _axis_coordinate(a0: float, h: float, tol: float) -> float:
+    """λ of an axis-aligned straight front whose layers lie ``h`` apart."""
+    return max(0.0, a0 / h - np.floor((a0 + tol) / h))
+
+
+def _level_coordinate(level, a0: float, per_cell: float, tol: float) -> float:
+    """λ of one side of a straight front: its band cells' levels ``level``, each cell
+    ``per_cell`` of width."""
+    widths = np.cumsum(np.bincount(level, minlength=BAND_LEVELS + 2)[:BAND_LEVELS + 1]
+                       ) * per_cell
+    # the first pair of levels that brackets a0 (the last pair where none does)
+    k = next((k for k in range(BAND_LEVELS - 1) if widths[k + 1] >= a0 - tol),
+             BAND_LEVELS - 1)
+    lo, hi = widths[k], widths[k + 1]
+    return k + ((a0 - lo) / (hi - lo) if hi > lo + tol else 0.0)
 
 
 def _slots(cells: np.ndarray, idx: np.ndarray) -> tuple:

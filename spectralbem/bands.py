@@ -115,12 +115,13 @@ def band_weights(a0: float, hx: float, hy: float) -> list:
     return [(m, 1.0)] if theta == 0.0 else [(m, 1.0 - theta), (m + 1, theta)]
 
 
-def bands_reach(a0: float, hx: float, hy: float, shape) -> float:
+def bands_reach(a0: float, hx: float, hy: float, shape, levels: int = 1) -> float:
     """The reach (m) of the bands of a test whose band is exactly a0 wide (the cells within
-    a0 and one digital layer more, along_front.layer_weights): a0 and one cell of the
-    coarser axis that has more than one cell, so that the wider band holds the next layer
-    along either axis."""
-    return a0 + max(h for h, n in ((hx, shape[0]), (hy, shape[1]), (min(hx, hy), 2)) if n > 1)
+    a0 and ``levels`` digital layers more, along_front.band_levels): a0 and ``levels``
+    cells of the coarser axis that has more than one cell, so that the widest band holds
+    the next layers along either axis."""
+    return a0 + levels * max(h for h, n in ((hx, shape[0]), (hy, shape[1]),
+                                            (min(hx, hy), 2)) if n > 1)
 
 
 def bands(mask: np.ndarray, hx: float, hy: float, a0: float, reach: float | None = None

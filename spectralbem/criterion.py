@@ -21,8 +21,9 @@ x_b - a0; F is interpolated linearly between them to the sub-cell front l*.  The
 exactly a0 wide for any a0/h ≥ 1: the tests of m and m + 1 whole layers are interpolated in
 the width (:func:`band_weights`); at every orientation of the front (a viscoelastic scene,
 and an elastic one with a0 of two cells or more, :func:`exact_width`): the band within a0
-and one digital layer wider, with a weight per front cell from their actual widths
-(along_front.layer_weights).  docs/theory.md, "The 2D criterion and the sub-cell front".
+and the bands one, two, … digital layers wider (along_front.band_levels), with weights per
+front cell from their actual widths (along_front.layer_weights).  docs/theory.md, "The 2D
+criterion and the sub-cell front".
 """
 
 from __future__ import annotations
@@ -35,10 +36,11 @@ from scipy import ndimage
 
 from .adjoint import complete_adjoint
 from .along_front import (
+    band_levels,
+    band_levels_needed,
     band_widths,
     front_average,
     layer_weights,
-    upper_band,
 )
 from .band_starts import BandStarts
 from .bands import (  # noqa: F401  (front_cells, band_split: part of this module's API)
@@ -215,15 +217,18 @@ def _owner_sums(values: dict, owner: np.ndarray, owners: np.ndarray, weight, acc
 
 
 def _weighted(parts: list, area: float) -> LayerWork:
-    """The LayerWork of one test from those of its whole-layer bands (``parts``: LayerWork
-    of the narrower band first), interpolated so that the band's area is ``area`` (the sum
-    of the per-owner weighted areas: one weight for the whole test)."""
+    """The LayerWork of one test from those of its bands (``parts``: LayerWork of the
+    narrower band first), interpolated linearly between the two whose areas bracket
+    ``area`` (the sum of the per-owner weighted areas: one weight for the whole test)."""
+    wts = [0.0] * len(parts)
     if len(parts) == 1:
-        wts = [1.0]
+        wts[0] = 1.0
     else:
-        lo, hi = parts[0].area, parts[-1].area
+        areas = [t.area for t in parts]
+        k = int(np.clip(np.searchsorted(areas, area) - 1, 0, len(parts) - 2))
+        lo, hi = areas[k], areas[k + 1]
         th = (area - lo) / (hi - lo) if hi > lo else 0.0
-        wts = [1.0 - th, th]
+        wts[k], wts[k + 1] = 1.0 - th, th
     obs = {k: sum(w * t.observables[k] for w, t in zip(wts, parts, strict=True))
            for k in parts[0].observables}
     return LayerWork(*(float(sum(w * t[i] for w, t in zip(wts, parts, strict=True)))
@@ -238,7 +243,7 @@ EXACT_WIDTH_MIN_CELLS = 2.0
 
 def exact_width(op: SpectralOperator, a0: float) -> bool:
     """Whether the tests' band is a0 wide at every orientation of the front (the band within
-    a0 and one digital layer wider, interpolated per front cell): always in a viscoelastic
+    a0 and the next digital layers, interpolated per front cell): always in a viscoelastic
     scene, where a0 is physical; in an elastic one from :data:`EXACT_WIDTH_MIN_CELLS` cells
     of a0 on.  Measured (docs/theory.md): on the rough elastic case the whole layers, thinner
     than a0 on oblique fronts, moved the area by 2.1 % between 256² and 512² at a0 = 7.8 µm,
@@ -250,33 +255,36 @@ def exact_width(op: SpectralOperator, a0: float) -> bool:
                 or a0 >= EXACT_WIDTH_MIN_CELLS * min(cell.hx, cell.hy) * (1 - 1e-9))
 
 
-def _band_plan(op, b: Bands, a0: float, normal, exact: bool):
+def _band_plan(op, b: Bands, a0: float, normal, exact: bool, levels: int):
     """The bands each test interpolates: [(reach, outer weights, inner weights), ...] with
-    the reach (m) of a band (the cells whose centre lies within it of the other side's
-    centres; None: along_front.upper_band, returned too) and the weights packed over the
-    outer and inner front cells.
+    the reach of a band (m: the cells whose centre lies within it of the other side's
+    centres; an int k: the cells of along_front.band_levels ≤ k, that array returned too,
+    else None) and the weights packed over the outer and inner front cells.
 
     Where :func:`exact_width` (viscoelastic scenes; elastic ones with a0 of two cells or
-    more): the band within a0 and the band one digital layer wider, with a weight per front
-    cell from their actual widths, so that the band is exactly a0 wide along the normal at
-    every orientation of the front (along_front.layer_weights).  Otherwise (an elastic
-    scene's a0 below two cells, where the edge is the sharp-crack edge fitted over the
-    bands' actual widths): the whole layers of :func:`band_weights`, one weight each."""
+    more): the bands of levels 0 (the cells within a0) to ``levels`` (one digital layer
+    more each), with hat weights per front cell from their actual widths, so that the
+    band is exactly a0 wide along the normal at every orientation of the front
+    (along_front.layer_weights).  Otherwise (an elastic scene's a0 below two cells, where
+    the edge is the sharp-crack edge fitted over the bands' actual widths): the whole
+    layers of :func:`band_weights`, one weight each."""
     n_out, n_in = int(np.count_nonzero(b.outer_front)), int(np.count_nonzero(b.inner_front))
     if not exact:
         h = min(b.spacing)
         return [(m * h, np.full(n_out, wt), np.full(n_in, wt))
                 for m, wt in band_weights(a0, *b.spacing)], None
-    upper = upper_band(b, a0)  # bool: an eighth of an N² array
-    th_out, th_in = layer_weights(b, a0, normal)
-    return [(a0, 1.0 - th_out, 1.0 - th_in), (None, th_out, th_in)], upper
+    level = band_levels(b, a0, levels)  # uint8: an eighth of an N² array
+    lam = layer_weights(b, a0, normal)
+    return [(k, *(np.maximum(0.0, 1.0 - np.abs(x - k)) for x in lam))
+            for k in range(levels + 1)], level
 
 
-def _side_tests(test, plan, band, own, dist, io, upper, tol, dg, area, shape, key):
+def _side_tests(test, plan, band, own, dist, io, level, tol, dg, area, shape, key):
     """The closing (``test`` = _Tester.close) or opening tests of one colour's band cells
     ``band`` (flat bool) on one side of the front: each band of ``plan`` ([(reach, weights
-    packed over the side's front cells ``io``)], :func:`_band_plan`) that some front cell
-    needs is tested, and its per-cell works summed per owner with the cells' weights.
+    packed over the side's front cells ``io``)], :func:`_band_plan`, with its ``level``
+    array) that some front cell needs is tested, and its per-cell works summed per owner
+    with the cells' weights.
     ``shape``: the grid's; ``key``: (colour, side) of the tests' warm starts.  Returns
     (owners, the sums dL, dg, area per owner, the interpolated LayerWork, runs [(reach,
     cells, weights, the test's third output: a·p on the closed band, the opened band's gaps)])."""
@@ -287,7 +295,7 @@ def _side_tests(test, plan, band, own, dist, io, upper, tol, dg, area, shape, ke
         wo = wo[np.searchsorted(io, owners)]
         if not wo.any():  # no front cell needs this band (axis-aligned, a0/h whole)
             continue
-        sel = band & (upper.ravel() if reach is None else dist <= reach + tol)
+        sel = band & (dist <= reach + tol if level is None else level.ravel() <= reach)
         cells, dL, extra, layer = test(sel.reshape(shape), key + (k,))
         wt = wo[np.searchsorted(owners, own[cells])]
         parts.append(layer)
@@ -389,7 +397,8 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
 
     The band is exactly ``a0`` wide for any a0/h ≥ 1: the works (and every integrated
     quantity) of two bands are interpolated linearly in the width (:func:`_band_plan`):
-    the band within a0 and the band one digital layer wider, with a weight per front cell,
+    the band within a0 and the bands one or more digital layers wider, with weights per
+    front cell,
     so that the band is a0 wide along the normal at every orientation (:func:`exact_width`:
     viscoelastic scenes, elastic ones from two cells of a0), else the whole layers of
     :func:`band_weights`.  ``w`` is the
@@ -415,8 +424,9 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     dg = np.asarray(dgamma, dtype=float)
     hmin = min(cell.hx, cell.hy)
     exact = exact_width(op, a0) if exact is None else exact
+    levels = band_levels_needed(a0, cell.hx, cell.hy, mask.shape) if exact else 0
     b = bands(mask, cell.hx, cell.hy, a0,
-              reach=bands_reach(a0, cell.hx, cell.hy, mask.shape) if exact else None)
+              reach=bands_reach(a0, cell.hx, cell.hy, mask.shape, levels) if exact else None)
     if u is None:
         u = op.apply(p)
     if starts is not None:
@@ -437,7 +447,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     cols = colours(b, vhat, op.viscoelastic, normal)
     sigma = _sigma_cells(default_smoothing(front_smoothing, op.viscoelastic), a0, hmin,
                          mask.shape)
-    plan, upper = _band_plan(op, b, a0, normal, exact)
+    plan, level = _band_plan(op, b, a0, normal, exact, levels)
     del normal  # not held while the band solves run (the peak of a front test)
     io_out, io_in = np.flatnonzero(b.outer_front), np.flatnonzero(b.inner_front)
     own, own_i = b.outer_owner.ravel(), b.inner_owner.ravel()
@@ -454,7 +464,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
         elif band.any():
             owners, acc, closing[ci], runs = _side_tests(
                 tester.close, [(r, wo) for r, wo, _ in plan], band, own, d_out, io_out,
-                upper, tol, dg, area, mask.shape, (ci, "close"))
+                level, tol, dg, area, mask.shape, (ci, "close"))
             has = acc["dg"] > 0
             balances.append((owners, acc))
             pending["close"].append((owners[has], [(c, wt, apD) for _, c, wt, apD in runs],
@@ -463,18 +473,18 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
         if band.any():
             owners, acc, opening[ci], runs = _side_tests(
                 tester.open, [(r, wi) for r, _, wi in plan], band, own_i, d_in, io_in,
-                upper, tol, dg, area, mask.shape, (ci, "open"))
-            for reach, cells, _, gr in runs:
+                level, tol, dg, area, mask.shape, (ci, "open"))
+            for _, cells, _, gr in runs:
                 slot = np.searchsorted(ib, cells)
-                # the band within a0 keeps its gaps where the wider one is upper_band's;
+                # levels: the narrowest band's gaps kept where wider ones are tested too;
                 # whole layers: the widest band's gaps last
-                fresh = np.isnan(g_band[slot]) | (reach is not None)
+                fresh = np.isnan(g_band[slot]) | (level is None)
                 g_band[slot[fresh]] = gr[fresh]
             has = acc["dg"] > 0
             balances.append((owners, acc))
             pending["open"].append((owners[has], [(c, wt) for _, c, wt, _ in runs],
                                     acc["area"][has]))
-    del plan, upper
+    del plan, level
     # one array per quantity: the outer (closing) and inner (opening) front cells are
     # disjoint; the widths first, then the balance, so that the two never meet the N² arrays
     # of the other (the peak of a front test's end)

@@ -83,12 +83,13 @@ def band_levels(b, a0: float, top: int) -> np.ndarray:
     for owner, dist in ((b.outer_owner, b.outer_dist), (b.inner_owner, b.inner_dist)):
         own, d = owner.ravel(), dist.ravel()  # the two sides' owners are disjoint cells
         sel = np.flatnonzero(own >= 0)
-        o, ds = own[sel], d[sel]
+        ds = d[sel]
+        owners, o = np.unique(own[sel], return_inverse=True)  # o: each cell's owner's slot
         level = np.where(ds <= a0 + tol, 0, top + 1).astype(np.uint8)
-        prev = np.full(b.mask.size, a0)  # the last reach of each front cell
+        prev = np.full(owners.size, a0)  # the last reach of each front cell
         for k in range(1, top + 1):
             cap = bands_reach(a0, hx, hy, b.mask.shape, k)
-            reach = np.full(b.mask.size, cap)
+            reach = np.full(owners.size, cap)
             beyond = (ds > prev[o] + tol) & (ds <= cap + tol)
             np.minimum.at(reach, o[beyond], ds[beyond])
             level[(level > k) & (ds <= reach[o] + tol)] = k

@@ -6,7 +6,9 @@ straight, so the 1D method at the same ζ, β, Γ, p̃, ã0 is its exact answer;
 staircase is what a curved front has on its oblique parts.  Writes the table between
 <!-- bench:oblique_front --> markers in docs/performance.md and bench/oblique_front.json.
 
-Usage: python bench/oblique_front.py [--a0 0.05] [--cells 2 4]
+Usage: python bench/oblique_front.py [--a0 0.05] [--cells 2 4] [--slope 1] [--out F]
+``--slope q`` turns the front's normal to (1, q) (71.6° for 3) on a q Ly × Ly cell; a run
+with ``--out`` elsewhere prints its table instead of writing docs/performance.md's.
 """
 
 from __future__ import annotations
@@ -34,26 +36,31 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from run import write_section  # noqa: E402
 
 BETA, GAMMA, P_TILDE = 10.0, 0.008, 0.15
+OUT = Path(__file__).with_name("oblique_front.json")
 KEYS = (("a_tilde", "ã"), ("G1_over_dgamma", "G1/Δγ"), ("G2_over_dgamma", "G2/Δγ"))
 
 
-def run(a0: float, cells: int, ref) -> dict:
+def run(a0: float, cells: int, ref, slope: int = 1) -> dict:
+    """One 2D state: the front's normal along (1, ``slope``) (45° for 1), on a cell of
+    ``slope`` Ly × Ly with one wavelength along each side (|k| = 1) and square cells, a0 =
+    ``cells`` cells."""
     zeta = 1.28 * a0
     mat, v = dimensionless_material(zeta, BETA)
-    L = 2 * np.pi * np.sqrt(2.0)
-    n = int(round(L * cells / a0))
-    cell = Cell(L, L, n, n)
+    Ly = 2 * np.pi * np.hypot(1.0, 1.0 / slope)
+    n = int(round(Ly * cells / a0))
+    cell = Cell(slope * Ly, Ly, slope * n, n)
     X, Y = cell.coordinates()
-    op = SpectralOperator(cell, mat, velocity=(v / np.sqrt(2), v / np.sqrt(2)))
+    k = np.array([2 * np.pi / cell.Lx, 2 * np.pi / Ly])  # |k| = 1
+    op = SpectralOperator(cell, mat, velocity=tuple(v * k))
     dg = np.pi * GAMMA
     t = time.process_time()
-    r = ad.solve_adhesive(op, np.cos((X + Y) / np.sqrt(2)), dg, a0,
+    r = ad.solve_adhesive(op, np.cos(k[0] * X + k[1] * Y), dg, a0,
                           mean_pressure=0.5 * P_TILDE)
     cpu = time.process_time() - t
     fo = front_outputs(op, r, dg)
     got = {"a_tilde": np.pi * fo["area_fraction"], "G1_over_dgamma": fo["G1"] / dg,
            "G2_over_dgamma": fo["G2"] / dg}
-    row = dict(a0_tilde=a0, zeta=zeta, cells=cells, N=n, status=r.status,
+    row = dict(a0_tilde=a0, zeta=zeta, cells=cells, N=n, slope=slope, status=r.status,
                iterations=r.iterations, cpu=cpu)
     for k, _ in KEYS:
         row[k] = (got[k], float(ref[k]), got[k] / float(ref[k]) - 1)
@@ -61,10 +68,11 @@ def run(a0: float, cells: int, ref) -> dict:
 
 
 def markdown(rows) -> str:
-    head = ("| ã0 | ζ | a0/h | N² | status | "
+    head = ("| ã0 | ζ | a0/h | grid | status | "
             + " | ".join(f"{lab} (2D, 1D, rel.)" for _, lab in KEYS)
             + " | outer | CPU s |\n|" + "---|" * (7 + len(KEYS)))
-    lines = [f"| {r['a0_tilde']:g} | {r['zeta']:.3g} | {r['cells']} | {r['N']}² | "
+    lines = [f"| {r['a0_tilde']:g} | {r['zeta']:.3g} | {r['cells']} | "
+             f"{r.get('slope', 1) * r['N']}×{r['N']} | "
              f"{r['status']} | "
              + " | ".join(f"{r[k][0]:.4f}, {r[k][1]:.4f}, {100 * r[k][2]:+.2f} %"
                           for k, _ in KEYS)
@@ -78,18 +86,26 @@ def main(argv=None):
     ap.add_argument("--a0", type=float, default=0.05, help="ã0 = k a0 (default 0.05)")
     ap.add_argument("--cells", type=int, nargs="+", default=[2, 4],
                     help="a0 in cells along the axes (default 2 4)")
+    ap.add_argument("--slope", type=int, default=1,
+                    help="the front's normal along (1, slope) (default 1: 45°)")
+    ap.add_argument("--out", type=Path, default=OUT,
+                    help="JSON of the rows (docs/performance.md's table only from the default)")
     a = ap.parse_args(argv)
     ref = oned.solve(1.28 * a.a0, BETA, GAMMA, p_tilde=P_TILDE, a0_tilde=a.a0,
                      adhesiveless_reference=False)
-    out = Path(__file__).with_name("oblique_front.json")
     rows = []
     for c in a.cells:
-        rows.append(run(a.a0, c, ref))
+        rows.append(run(a.a0, c, ref, a.slope))
         print(json.dumps(rows[-1]), flush=True)
-        out.write_text(json.dumps(rows, indent=1))  # every finished size is kept
+        a.out.write_text(json.dumps(rows, indent=1))  # every finished size is kept
+    if a.out.resolve() != OUT.resolve():
+        print(markdown(rows))
+        return
     write_section("oblique_front", f"Measured {time.strftime('%Y-%m-%d')} with "
                   f"`python bench/oblique_front.py --a0 {a.a0:g} --cells "
-                  f"{' '.join(map(str, a.cells))}` (one thread):\n\n" + markdown(rows))
+                  f"{' '.join(map(str, a.cells))}"
+                  + (f" --slope {a.slope}" if a.slope != 1 else "")
+                  + "` (one thread):\n\n" + markdown(rows))
 
 
 if __name__ == "__main__":

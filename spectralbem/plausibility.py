@@ -130,8 +130,8 @@ def _a0_cells_elastic(scene) -> list[str]:
              "at one, 6 % at 8 cells (solver.extrapolate_a0 = true removes most of it)")
     return [f"adhesion.a0: {scene.a0:.4g} m spans {cells:.3g} cells in an elastic scene "
             f"(warned above {A0_CELLS_ELASTIC:g}): a0 is numerical here and the answer moves "
-            f"with it ({moves}), and the front may wander without converging "
-            "(solver.front_tol = a0/(8h) converges there); one cell is the most accurate "
+            f"with it ({moves}), and wide bands take many front iterations (89 at 8 cells "
+            "on that case's 1024² loading state); one cell is the most accurate "
             "(docs/theory.md)"]
 
 

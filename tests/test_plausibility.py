@@ -87,8 +87,8 @@ def test_a0_large_against_the_cut_off_is_named():
 
 def test_a0_of_many_cells_in_an_elastic_scene_is_named():
     """An elastic scene with a0 of 8 cells (numerical there; its answer moves with a0 and
-    its front may wander, docs/theory.md) is warned, whatever the smoothing; with a0 of 4
-    cells or a viscoelastic slab it is not."""
+    wide bands take many front iterations, docs/theory.md) is warned, whatever the
+    smoothing; with a0 of 4 cells or a viscoelastic slab it is not."""
     raw = read_scene_file(CASES / "rough_convergence.toml")
     raw["material"] = {"kind": "elastic", "E": 1e6, "nu": 0.5}
 

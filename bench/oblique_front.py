@@ -7,7 +7,8 @@ staircase is what a curved front has on its oblique parts.  Writes the table bet
 <!-- bench:oblique_front --> markers in docs/performance.md and bench/oblique_front.json.
 
 Usage: python bench/oblique_front.py [--a0 0.05] [--cells 2 4] [--slope 1] [--out F]
-``--slope q`` turns the front's normal to (1, q) (71.6° for 3) on a q Ly × Ly cell; a run
+``--slope q`` turns the front's normal to (1, q) (71.6° for 3) on a q Ly × Ly cell (0: the
+y-invariant front, on an N × 2 grid); a run
 with ``--out`` elsewhere prints its table instead of writing docs/performance.md's.
 """
 
@@ -43,14 +44,20 @@ KEYS = (("a_tilde", "ã"), ("G1_over_dgamma", "G1/Δγ"), ("G2_over_dgamma", "G2
 def run(a0: float, cells: int, ref, slope: int = 1) -> dict:
     """One 2D state: the front's normal along (1, ``slope``) (45° for 1), on a cell of
     ``slope`` Ly × Ly with one wavelength along each side (|k| = 1) and square cells, a0 =
-    ``cells`` cells."""
+    ``cells`` cells; ``slope`` 0: the y-invariant front on an N × 2 grid."""
     zeta = 1.28 * a0
     mat, v = dimensionless_material(zeta, BETA)
-    Ly = 2 * np.pi * np.hypot(1.0, 1.0 / slope)
-    n = int(round(Ly * cells / a0))
-    cell = Cell(slope * Ly, Ly, slope * n, n)
+    if slope == 0:
+        n = 2
+        nx = int(round(2 * np.pi * cells / a0))
+        cell = Cell(2 * np.pi, 2 * np.pi * n / nx, nx, n)
+        k = np.array([1.0, 0.0])
+    else:
+        Ly = 2 * np.pi * np.hypot(1.0, 1.0 / slope)
+        n = int(round(Ly * cells / a0))
+        cell = Cell(slope * Ly, Ly, slope * n, n)
+        k = np.array([2 * np.pi / cell.Lx, 2 * np.pi / Ly])  # |k| = 1
     X, Y = cell.coordinates()
-    k = np.array([2 * np.pi / cell.Lx, 2 * np.pi / Ly])  # |k| = 1
     op = SpectralOperator(cell, mat, velocity=tuple(v * k))
     dg = np.pi * GAMMA
     t = time.process_time()
@@ -60,7 +67,8 @@ def run(a0: float, cells: int, ref, slope: int = 1) -> dict:
     fo = front_outputs(op, r, dg)
     got = {"a_tilde": np.pi * fo["area_fraction"], "G1_over_dgamma": fo["G1"] / dg,
            "G2_over_dgamma": fo["G2"] / dg}
-    row = dict(a0_tilde=a0, zeta=zeta, cells=cells, N=n, slope=slope, status=r.status,
+    row = dict(a0_tilde=a0, zeta=zeta, cells=cells, N=n, Nx=cell.Nx, slope=slope,
+               status=r.status,
                iterations=r.iterations, cpu=cpu)
     for k, _ in KEYS:
         row[k] = (got[k], float(ref[k]), got[k] / float(ref[k]) - 1)
@@ -72,7 +80,7 @@ def markdown(rows) -> str:
             + " | ".join(f"{lab} (2D, 1D, rel.)" for _, lab in KEYS)
             + " | outer | CPU s |\n|" + "---|" * (7 + len(KEYS)))
     lines = [f"| {r['a0_tilde']:g} | {r['zeta']:.3g} | {r['cells']} | "
-             f"{r.get('slope', 1) * r['N']}×{r['N']} | "
+             f"{r.get('Nx', r['N'])}×{r['N']} | "
              f"{r['status']} | "
              + " | ".join(f"{r[k][0]:.4f}, {r[k][1]:.4f}, {100 * r[k][2]:+.2f} %"
                           for k, _ in KEYS)
@@ -87,7 +95,7 @@ def main(argv=None):
     ap.add_argument("--cells", type=int, nargs="+", default=[2, 4],
                     help="a0 in cells along the axes (default 2 4)")
     ap.add_argument("--slope", type=int, default=1,
-                    help="the front's normal along (1, slope) (default 1: 45°)")
+                    help="the front's normal along (1, slope) (default 1: 45°; 0: along x)")
     ap.add_argument("--out", type=Path, default=OUT,
                     help="JSON of the rows (docs/performance.md's table only from the default)")
     a = ap.parse_args(argv)

@@ -101,8 +101,8 @@ def band_levels(b, a0: float, top: int) -> np.ndarray:
 def band_levels_needed(a0: float, hx: float, hy: float, shape) -> int:
     """The number of levels beyond a0 that the tests' bands must reach (at least one) for
     the band to be a0 wide at every orientation of :func:`straight_front_weights` (one below
-    2.75 cells; two at some a0 from 2.75 cells on, e.g. 2.75-3, 3.5-3.75, 8-8.25 cells;
-    three at some from 29 cells)."""
+    1.79 cells; two at some a0 from 1.79 cells on: 1.79-1.99, 2.13-2.23, 2.69-2.82,
+    2.85-2.99, 3.14-3.16, 3.48-3.60, 3.80-3.99, … cells; three at some from 29 cells)."""
     _, lo, li = straight_front_weights(
         float(f"{a0 / hx:.12g}"), float(f"{hy / hx:.12g}"), min(shape) > 1)
     return max(1, int(np.ceil(max(lo.max(), li.max()) - 1e-12)))
@@ -158,7 +158,7 @@ def straight_front_weights(a0_cells: float, aspect: float, oblique: bool = True)
     whole periods of periodic stripes ((i p − j q) mod M < M/2 on a (M/gcd(M, p)) ×
     (M/gcd(M, q)) cell grid, every offset of the digital line once), cells of hx = 1 and hy
     = ``aspect`` with a0 = ``a0_cells`` hx, the bands reaching :data:`BAND_LEVELS` layers
-    beyond a0 (bands.bands_reach).  λ ≤ 1 at every orientation below a0 = 2.75 cells; at
+    beyond a0 (bands.bands_reach).  λ ≤ 1 at every orientation below a0 = 1.79 cells; at
     some a0 beyond, some slopes add only a few cells per layer and need more; λ =
     :data:`BAND_LEVELS` where even those do not reach a0.  Oblique orientations whose grid
     would exceed :data:`STRAIGHT_FRONT_CELLS` cells are left out (a0 beyond about 65

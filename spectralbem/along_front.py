@@ -103,9 +103,16 @@ def band_levels_needed(a0: float, hx: float, hy: float, shape) -> int:
     the band to be a0 wide at every orientation of :func:`straight_front_weights` (one below
     1.79 cells; two at some a0 from 1.79 cells on: 1.79-1.99, 2.13-2.23, 2.69-2.82,
     2.85-2.99, 3.14-3.16, 3.48-3.60, 3.80-3.99, … cells; three at some from 29 cells)."""
-    _, lo, li = straight_front_weights(
-        float(f"{a0 / hx:.12g}"), float(f"{hy / hx:.12g}"), min(shape) > 1)
+    _, lo, li = _table(a0, hx, hy, shape)
     return max(1, int(np.ceil(max(lo.max(), li.max()) - 1e-12)))
+
+
+def _table(a0: float, hx: float, hy: float, shape) -> tuple:
+    """:func:`straight_front_weights` of a grid's cells: the key rounded relatively (a0/hx
+    and hy/hx of any size keep 12 digits, far inside the table's 1e-9 h of tolerance); a
+    strip (one cell across) has fronts along its axis only."""
+    return straight_front_weights(float(f"{a0 / hx:.12g}"), float(f"{hy / hx:.12g}"),
+                                  min(shape) > 1)
 
 
 def layer_weights(b, a0: float, normal) -> tuple:
@@ -125,11 +132,7 @@ def layer_weights(b, a0: float, normal) -> tuple:
     front's advance, a0 (1 ± κa0/2) per length (wider on the convex side, narrower on the
     concave one), as a band of the cells within a0 does as h → 0.  On an axis-aligned front
     with a0 = (m + θ) h this is the whole-layer weight θ of bands.band_split."""
-    hx, hy = b.spacing
-    # the key rounded relatively (a0/hx and hy/hx of any size keep 12 digits, far inside
-    # the table's 1e-9 h of tolerance); a strip (one cell across) has fronts along its axis
-    phi_t, th_out, th_in = straight_front_weights(
-        float(f"{a0 / hx:.12g}"), float(f"{hy / hx:.12g}"), min(b.mask.shape) > 1)
+    phi_t, th_out, th_in = _table(a0, *b.spacing, b.mask.shape)
     out = []
     for front, th in ((b.outer_front, th_out), (b.inner_front, th_in)):
         phi = np.arctan2(np.abs(normal[1][front]), np.abs(normal[0][front]))

@@ -124,9 +124,9 @@ def _a0_cells_elastic(scene) -> list[str]:
     if cells <= A0_CELLS_ELASTIC:
         return []
     moves = ("with the edge extrapolated to a0 → 0 (solver.extrapolate_a0, the default "
-             "here) the rough case of docs/rough_convergence.md reads 0.1-2 % more area at 4-8 "
+             "here) the rough case of docs/rough_convergence.md reads 0.7-2.3 % more area at 2-8 "
              "cells than at one" if scene.extrapolate_a0 else
-             "the rough case of docs/rough_convergence.md reads 4 % less area at 4 cells than "
+             "the rough case of docs/rough_convergence.md reads 5 % less area at 4 cells than "
              "at one, 6 % at 8 cells (solver.extrapolate_a0 = true removes most of it)")
     return [f"adhesion.a0: {scene.a0:.4g} m spans {cells:.3g} cells in an elastic scene "
             f"(warned above {A0_CELLS_ELASTIC:g}): a0 is numerical here and the answer moves "

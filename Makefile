@@ -44,7 +44,7 @@ bench: $(STAMP)
 	$(BIN)/python bench/sphere_release_rates.py --delayed-kernel cell sampled
 	$(BIN)/python bench/oblique_front.py
 	$(BIN)/python bench/oblique_front.py --a0 0.2 --cells 8 --slope 3 --out bench/oblique_front_slope3.json
-	$(BIN)/python bench/oblique_front.py --a0 0.2 --cells 4 8 16 32 64 --slope 0 --out bench/oblique_front_axis.json
+	$(BIN)/python bench/oblique_front.py --a0 0.2 --cells 4 8 16 32 --slope 0 --out bench/oblique_front_axis.json
 	$(BIN)/python bench/front_lake.py
 	$(BIN)/python bench/accuracy.py
 	$(BIN)/python bench/relaxation_length.py

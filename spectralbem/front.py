@@ -378,48 +378,14 @@ def balance_residual(s_out, s_in, res_out, res_in, free_in, hmin):
     return (float(r.max()) if r.size else 0.0), r
 
 
-def bracketed(tests, mask, add, remove, last_change):
-    """Front cells whose band cells flip back this iteration (a 2-cycle: the last move
-    closed them, this one would open them, or the other way round), as (shallow, deep):
-    shallow where every cell of the last move the front cell owns lies next to the front
-    (at h_x, h_y or a corner's diagonal) — its balanced edge lies inside the flipping cell,
-    at that cell's centre ± h/2 (residual 0 by :func:`balance_residual`); ``deep`` (m) the
-    distance of the farthest cell of the last move where it lies farther, 0 elsewhere.
-    Where the last move reached farther (a deep cycle) the edge lies somewhere between the two
-    masks, neither of which need be the best one (a y-invariant front at a0 = 16 cells,
-    ã0 = 0.2: the last move closed two cells, the balance lies one cell from each mask): its
-    residual stands and the move back is halved (:func:`bisected`)."""
+def bracketed(tests, add, remove, last_change):
+    """Front cells whose band cells flip back this iteration (a 2-cycle: one state closes the
+    cell, the next opens it): their balanced edge lies inside the flipping cell, so its
+    position is that cell's centre to ± h/2 (residual 0 by :func:`balance_residual`)."""
     b = tests.bands
-    depth = np.zeros(add.size)
-    cycling = np.zeros(add.size, bool)
-    for back, moved, dist, owner in (
-            (add & last_change, last_change & ~mask, b.outer_dist, b.outer_owner),
-            (remove & last_change, last_change & mask, b.inner_dist, b.inner_owner)):
-        own = owner.ravel()
-        cycling[own[np.flatnonzero(back)]] = True
-        cells = np.flatnonzero(moved)
-        cells = cells[own[cells] >= 0]
-        np.maximum.at(depth, own[cells], dist.ravel()[cells])
-    near = depth <= np.hypot(*b.spacing) * (1 + 1e-9)  # h_x, h_y or the corner's diagonal
-    depth = np.where(cycling & ~near, depth, 0.0).reshape(add.shape)
-    return (cycling & near).reshape(add.shape), depth
-
-
-def bisected(tests, add, remove, last_change, deep):
-    """The moves of a deep cycle halved: where a front cell's last move reached beyond the
-    cells next to the front (``deep`` > 0, the depth of that move, :func:`bracketed`), only
-    the cells of its flip back within half that depth (at least the first layer) move, so
-    that the next mask lies between the cycle's two (a bisection of the bracket) instead of
-    returning to the last.  Returns (add, remove), new arrays."""
-    b = tests.bands
-    reach = np.maximum(max(b.spacing), 0.5 * deep.ravel()) * (1 + 1e-9)
-    out = []
-    for moving, dist, owner in ((add, b.outer_dist, b.outer_owner),
-                                (remove, b.inner_dist, b.inner_owner)):
-        moving = moving.copy()
-        cells = np.flatnonzero(moving & last_change)
-        o = owner.ravel()[cells]
-        back = (deep.ravel()[o] > 0) & (dist.ravel()[cells] > reach[o])
-        moving.ravel()[cells[back]] = False
-        out.append(moving)
-    return tuple(out)
+    out = np.zeros(add.shape, bool)
+    back_add = np.flatnonzero(add & last_change)
+    back_rem = np.flatnonzero(remove & last_change)
+    out.ravel()[b.outer_owner.ravel()[back_add]] = True
+    out.ravel()[b.inner_owner.ravel()[back_rem]] = True
+    return out

@@ -22,7 +22,6 @@ from .friction import friction
 from .front import (
     at_front,
     balance_residual,
-    bisected,
     bracketed,
     resolved_front,
     unresolved_patches,
@@ -330,9 +329,7 @@ class FrontIteration:
                                          tests.bands.inner_dist)
         self.stale = overloaded_pins(stale, self.p, res_in & ~held,
                                      np.sqrt(release_bound(op)))
-        bracket, deep = bracketed(tests, mask, add, remove, self.last_change)
-        if deep.any():  # a cycle deeper than the cells next to the front: bisected
-            add, remove = bisected(tests, add, remove, self.last_change, deep)
+        bracket = bracketed(tests, add, remove, self.last_change)
         # a bracketed edge lies inside its flipping cell: at that cell's centre ± h/2
         s_out[bracket] = np.clip(s_out[bracket], -0.5 * hmin, 0.5 * hmin)  # in place
         s_in[bracket] = np.clip(s_in[bracket], -0.5 * hmin, 0.5 * hmin)

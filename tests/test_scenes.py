@@ -365,17 +365,14 @@ REDUCED = {
     "prony_rubber": {"grid.Nx": 32, "grid.Ny": 32},
     "jkr_sphere": {"grid.Nx": 128, "grid.Ny": 128, "adhesion.a0": 1.5625e-5,
                    "control.mean_pressure": [1e3, 0.0]},
-    # the rough paths at 128² (a0 = 7.8 µm, one cell; the cut-off 8 cells).  With a0 two
-    # cells (15.6 µm, a quarter of the cut-off) the step to 3e4 Pa ends not_converged: a
-    # few spots of the front (2-6 cells each, 99.7 % of it balanced) snap between masks
-    # whose band tests send each other's edge beyond the whole band, a drifting cycle more
-    # than one layer deep (front.bracketed); at 64² the step to 3e4 Pa ends not_converged,
-    # two tensile pins held where no free edge of the front carries tension
-    "rough_load_unload": {"grid.Nx": 128, "grid.Ny": 128, "adhesion.a0": 7.8125e-6,
+    # the rough paths at 128² (a0 two cells, the cut-off 8): at 64² (a0 two cells of 15.6
+    # µm) the step to 3e4 Pa ends not_converged, two tensile pins held where no free edge
+    # of the front carries tension (moves.overloaded_pins has no reference there)
+    "rough_load_unload": {"grid.Nx": 128, "grid.Ny": 128, "adhesion.a0": 1.5625e-5,
                           "surface.cutoff_wavelength": 6.25e-5,
                           "control.mean_pressure": [1e4, 3e4, 1e4]},
     "sinusoid_physical": {},
-    "rough_convergence": {"grid.Nx": 128, "grid.Ny": 128, "adhesion.a0": 7.8125e-6,
+    "rough_convergence": {"grid.Nx": 128, "grid.Ny": 128, "adhesion.a0": 1.5625e-5,
                           "surface.cutoff_wavelength": 6.25e-5},
 }
 

@@ -68,8 +68,7 @@ def run(a0: float, cells: int, ref, slope: int = 1) -> dict:
     got = {"a_tilde": np.pi * fo["area_fraction"], "G1_over_dgamma": fo["G1"] / dg,
            "G2_over_dgamma": fo["G2"] / dg}
     row = dict(a0_tilde=a0, zeta=zeta, cells=cells, N=n, Nx=cell.Nx, slope=slope,
-               status=r.status,
-               iterations=r.iterations, cpu=cpu)
+               status=r.status, iterations=r.iterations, cpu=cpu)
     for k, _ in KEYS:
         row[k] = (got[k], float(ref[k]), got[k] / float(ref[k]) - 1)
     return row

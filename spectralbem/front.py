@@ -171,7 +171,8 @@ def front_outputs(op, r, dgamma) -> dict:
     area (m²), area_fraction, front_length (m), crack_tip_length (m: the part of the front
     that is a crack tip, over which G1, G2 and mu_adhesive are taken; the rest is held by
     contact), G1, G2 (J/m²), mu_adhesive, the G map on the outer front (nan elsewhere) and
-    the number of unresolved patches."""
+    the number of unresolved patches.  Raises a ValueError for a state that is not
+    `partial` (its final tests carry no release rates)."""
     cell = op.cell
     t = r.tests
     if t is None or t.dLP_rate is None:  # the adjoint split is solved for a partial state

@@ -11,6 +11,7 @@ from scipy import ndimage
 
 from .adjoint import complete_adjoint
 from .band_starts import BandStarts
+from .brackets import across, bracket_offsets, flip_memory, kept, place
 from .contact import full_contact
 from .criterion import (
     front_cells,
@@ -22,7 +23,6 @@ from .friction import friction
 from .front import (
     at_front,
     balance_residual,
-    bracketed,
     resolved_front,
     unresolved_patches,
 )
@@ -121,6 +121,7 @@ class FrontIteration:
         self.wide = None  # the oscillating cells of a rescued front (moved only if unbalanced)
         self.opened = np.zeros(cell.shape, bool)  # cells the criterion opened in this solve
         self.last_change = np.zeros(cell.shape, bool)
+        self.flip_prev = self.flip_next = None  # brackets.flip_memory of the last move
         self.flaw_tried = False
         self.stale = 0  # pinned cells that would open but may not be released again
         self.pinned = np.zeros(cell.shape, bool)  # opened, then closed by non-penetration
@@ -204,6 +205,7 @@ class FrontIteration:
         # the flaw is no move of the balance: a criterion that closes it again is no 2-cycle
         # (a stale last move would bracket the flaw's edge and accept it as balanced)
         self.last_change = np.zeros_like(flaw)
+        self.flip_prev = None
         return _NEXT
 
     def _solve_state(self) -> bool:
@@ -329,10 +331,23 @@ class FrontIteration:
                                          tests.bands.inner_dist)
         self.stale = overloaded_pins(stale, self.p, res_in & ~held,
                                      np.sqrt(release_bound(op)))
-        bracket = bracketed(tests, add, remove, self.last_change)
-        # a bracketed edge lies inside its flipping cell: at that cell's centre ± h/2
+        # a 2-cycle brackets the edge between two masks (spectralbem.brackets): where the
+        # last move went deeper than a cell, the secant through both masks' offsets places
+        # it, and only the flipped cells beyond it move back
+        bracket, deep = bracket_offsets(tests, add, remove, self.last_change, self.flip_prev,
+                                        s_out, s_in, hmin)
+        memory = flip_memory(tests, add, remove, s_out, s_in)  # this mask's own offsets
+        if deep:
+            place(deep, s_out, s_in)
+            if self.moves_to is not None:
+                place(deep, self.moves_to, self.moves_to)
+            add, remove = self._moves(w, s_out, s_in)
+        self.flip_next = memory
+        # a one-deep bracketed edge lies inside its flipping cell: its centre ± h/2
         s_out[bracket] = np.clip(s_out[bracket], -0.5 * hmin, 0.5 * hmin)  # in place
         s_in[bracket] = np.clip(s_in[bracket], -0.5 * hmin, 0.5 * hmin)
+        if bracket.any() or deep:  # the cells across the front: the same edge
+            across(s_out, s_in, outer, inner, bracket, deep, hmin)
         self.s_out, self.s_in = s_out, s_in
         rmax, r = balance_residual(s_out, s_in, res_out, res_in, ~held, hmin)
         if self.mean_pressure is not None and self.mean_pressure < 0:
@@ -438,6 +453,7 @@ class FrontIteration:
         self.corr = self._kept_correction(add | remove) if keep else 0.0
         self.mask = (self.mask | add) & ~remove
         self.last_change = add | remove
+        self.flip_prev = kept(self.flip_next, self.last_change)
         # the tests and bands of the old mask: freed before the next state's solves
         self.tests = self.res_out = None
         self.opened |= remove

@@ -58,6 +58,11 @@ RATE_KEYS = ("G1", "G2", "mu_adhesive")
 #: without it had each front cell's band a0 wide per front length ("width") and form tables
 #: of their own
 BANDS = "advance"
+#: the bracket rule of the runs recorded now: a 2-cycle deeper than one cell places its edge
+#: by the secant through both masks' offsets (spectralbem.brackets, docs/theory.md,
+#: "Convergence"); rows without it clipped every bracketed edge into its flipping cell
+#: ("clip") and form tables of their own
+BRACKETS = "secant"
 
 
 def _old_rates(r: dict) -> bool:
@@ -129,7 +134,7 @@ def run_one(n: int, material: str, a0: float, sigma: float | None,
             else float("nan"))
     return dict(N=n, material=material, a0=a0, sigma=sigma, cpu=cpu, steps=steps,
                 hysteresis=hyst, coarse_start=coarse, loading_only=loading_only,
-                release_rates=RATES, bands=BANDS,
+                release_rates=RATES, bands=BANDS, brackets=BRACKETS,
                 front_tol=front_tol, extrapolate_a0=extrapolate,
                 delayed_kernel=None if material == "elastic" else delayed)
 
@@ -144,10 +149,12 @@ def _key(r: dict) -> tuple:
     """A run's table: material, a0, σ, the start (rows before the coarse start: False),
     whether it is the loading state alone, the tolerance in position (None: default), the
     discretisation of the kernel's delayed part, the extrapolation of the elastic edge
-    in a0 and the band rule (rows before :data:`BANDS`: "width")."""
+    in a0, the band rule (rows before :data:`BANDS`: "width") and the bracket rule (rows
+    before :data:`BRACKETS`: "clip")."""
     return (r["material"], r["a0"], r["sigma"], bool(r.get("coarse_start", False)),
             bool(r.get("loading_only", False)), r.get("front_tol"), _kernel(r),
-            bool(r.get("extrapolate_a0", False)), r.get("bands", "width"))
+            bool(r.get("extrapolate_a0", False)), r.get("bands", "width"),
+            r.get("brackets", "clip"))
 
 
 def scan_one(n: int, a0_cells: float, sigma: float | None) -> dict:
@@ -218,19 +225,20 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "the same path from the coarse grid's front (`--coarse-start`, "
              "`solver.coarse_start`) and reach other balanced states (below).", "",
              "## What this case shows", "",
-             "- **Loading**: the viscoelastic loading state's area moves by 1.0 % and 0.4 % "
-             "from 256² to 512² to 1024² (observed order 1.4 from 256² on, Richardson error "
-             "0.7 % at 512² and 0.3 % at 1024²), μ by 0.1 % and 0.4 %, G1 and G2 by ≤ 0.6 % "
-             "and 0.3 %; μ_a by 4.5 % and 5.0 % (1, 2 and 4 cells per vτ). The elastic "
-             "loading area at a0 = 7.8 µm, edge "
-             "extrapolated, moves by 0.6 % and 1.1 % from 256² to 512² to 1024² (2, 4 and 8 "
+             "- **Loading**: the viscoelastic loading state's area moves by 0.5 % from 256² "
+             "to 512², μ by 0.3 %, G1 and G2 by ≤ 0.3 %, μ_a by 2.4 % (1 and 2 cells per vτ; "
+             "the 1024² path, 3251 CPU-s, was measured before the bracket secant and is in "
+             "a table of its own, 0.4 % in area and 5.0 % in μ_a from that rule's 512² "
+             "state). The "
+             "elastic loading area at a0 = 7.8 µm, edge "
+             "extrapolated, moves by 0.7 % and 1.1 % from 256² to 512² to 1024² (2, 4 and 8 "
              "cells per a0; the 1024² state read 0.2865 where its band was up to 1.2 % "
              "narrower than a0 on fronts near the slopes 1/3 and 3/10, before the band "
              "levels of `along_front.band_levels`, so the band is not what moves it); at "
              "3.9 µm it is 1.1 % and 0.9 % smaller at 256² and 512² (a0, numerical here, is "
              "not yet small against the patches).",
              "- **The state at a load is not unique.** Adhesion makes the contact "
-             "hysteretic: at 1e4 Pa the elastic unloading state holds 6.0 % and 4.6 % more area "
+             "hysteretic: at 1e4 Pa the elastic unloading state holds 5.7 % and 4.3 % more area "
              "than the loading state at 256² and 512² (both balanced; up to 11 % with the a0 "
              "tests' edge before the advance band), and the states "
              "between them are balanced "
@@ -250,21 +258,24 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "resolution of the question \"the state at this load\" on this surface, and "
              "for μ_a it is wider than 5 %.",
              "- **Unloading needs 512²** here. The elastic unloading area moves by 2.0 % and "
-             "0.7 % from 256² to 512² to 1024² (0.3088, 0.3027, 0.3005), the SLS one by 0.0 % "
-             "and then 2.0 % (0.2275, 0.2275, 0.2230). Neither elastic unloading state at "
-             "256² and 512² depends on the tolerance in position: 0.3079 and 0.3024 at "
-             "`front_tol` = 0.25 cells (−0.3 % and −0.1 %). A coarse grid can add equilibria "
-             "of its own: before the advance "
+             "0.6 % from 256² to 512² to 1024² (0.3080, 0.3020, 0.3003), the SLS one by 0.2 % "
+             "from 256² to 512² (0.2248, 0.2244; before the bracket secant 0.0 % and then "
+             "2.0 % to 1024²). Before the bracket secant neither elastic unloading state at "
+             "256² and 512² depended on the tolerance in position: 0.3079 and 0.3024 at "
+             "`front_tol` = 0.25 cells against 0.3088 and 0.3027 at 0.5. A coarse grid can "
+             "add equilibria of its own: before the advance "
              "band the 256² elastic unloading state depended on the tolerance and the path's "
              "steps (0.3193 and 0.3162 at `front_tol` = 0.5 and 0.25, 0.3102 and 0.3179 "
              "unloaded in steps of 5 kPa: a spread of 2.9 %), where the 512² state read "
              "0.3024-0.3029 (0.2 %); the 512² unloading state sampled at 256² is balanced "
              "there too, and the 256² state carried to 512² recedes to the 512² path's "
              "state ([docs/theory.md, \"Load-path steps\"](theory.md#load-path-steps)).",
-             "- **μ_a at 3e4 Pa and on unloading** is not converged at 1024² (12.0 % and "
-             "9.8 % from 512²): G1 − G2 is 0.15-0.18 Δγ there, so a 1 % move of G1 moves μ_a "
+             "- **μ_a at 3e4 Pa and on unloading** is not converged: 4.3 % and 13.6 % from "
+             "256² to 512² (before the bracket secant 12.0 % and 9.8 % from 512² to 1024²): "
+             "G1 − G2 is 0.15-0.18 Δγ there, so a 1 % move of G1 moves μ_a "
              "by 6-7 %, and at 3e4 Pa about 90 % of μ_a sits on the edges of the non-contact "
-             "lakes, whose G1 still grows (1.092, 1.098, 1.107 Δγ at 256²-1024²: G1 − Δγ up "
+             "lakes, whose G1 still grew before the bracket secant (1.092, 1.098, 1.107 Δγ at "
+             "256²-1024²: G1 − Δγ up "
              "by 7 % and 9 % per doubling; [docs/theory.md, "
              "\"Known limits\"](theory.md#known-limits)). At 2048² (8 cells per vτ; "
              "`python bench/viscoelastic.py "
@@ -279,7 +290,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
     by = {}
     for r in runs:
         by.setdefault(_key(r), []).append(r)
-    for (mat, a0, sig, coarse, only, ftol, dk, ex, bnd), rs in sorted(by.items(),
+    for (mat, a0, sig, coarse, only, ftol, dk, ex, bnd, brk), rs in sorted(by.items(),
                                                                       key=_table_order):
         rs = sorted(rs, key=lambda r: r["N"])
         lines += [f"### {mat}, a0 = {a0 * 1e6:g} µm, front smoothing σ = "
@@ -291,7 +302,9 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
                   + ("" if dk is None else f", delayed kernel: {dk}"
                      + (" (default)" if dk == DELAYED_DEFAULT else " (`--delayed-kernel`)"))
                   + ("" if bnd == BANDS else ", **before the advance band**: each front "
-                     "cell's band a0 wide per front length"),
+                     "cell's band a0 wide per front length")
+                  + ("" if brk == BRACKETS else ", **before the bracket secant**: every "
+                     "2-cycle's edge clipped into its flipping cell"),
                   "",
                   "| N | step | status | balanced | area | mean gap (µm) | μ | μ_a | G1/Δγ | "
                   "G2/Δγ | crack tips (mm) | CPU s |",
@@ -379,8 +392,10 @@ def _plot(ax, ns, vals, ok, label, style="-", marker="o", color=None):
 
 def figure(runs: list, scans: list, out: Path) -> None:
     """Area fraction, μ, G1, G2, μ_a and the crack-tip length against N from the JSON
-    (docs/rough_convergence.md): the runs of the current band rule (:data:`BANDS`) only."""
-    runs = [r for r in runs if r.get("bands", "width") == BANDS]
+    (docs/rough_convergence.md): the runs of the current band and bracket rules
+    (:data:`BANDS`, :data:`BRACKETS`) only."""
+    runs = [r for r in runs if r.get("bands", "width") == BANDS
+            and r.get("brackets", "clip") == BRACKETS]
     import matplotlib
 
     matplotlib.use("Agg")
@@ -503,7 +518,7 @@ def _table_runs(runs, material: str, extrapolate: bool) -> list:
     """The default table's runs of a material along the whole path, by N (adhesiveless
     start, a0 = A0, default σ, tolerance and kernel)."""
     want = (material, A0, None, False, False, None,
-            None if material == "elastic" else DELAYED_DEFAULT, extrapolate, BANDS)
+            None if material == "elastic" else DELAYED_DEFAULT, extrapolate, BANDS, BRACKETS)
     return sorted((r for r in runs if _key(r) == want and not _old_rates(r)),
                   key=lambda r: r["N"])
 
@@ -561,9 +576,11 @@ def resolution_table(runs: list) -> list:
 
 #: the default tables, in the page's order: the elastic path with the edge extrapolated to
 #: a0 → 0, the sls path and the sls loading state (every other setting the solver's default)
-DEFAULT_TABLES = (("elastic", A0, None, False, False, None, None, True, BANDS),
-                  ("sls", A0, None, False, False, None, DELAYED_DEFAULT, False, BANDS),
-                  ("sls", A0, None, False, True, None, DELAYED_DEFAULT, False, BANDS))
+DEFAULT_TABLES = (("elastic", A0, None, False, False, None, None, True, BANDS, BRACKETS),
+                  ("sls", A0, None, False, False, None, DELAYED_DEFAULT, False, BANDS,
+                   BRACKETS),
+                  ("sls", A0, None, False, True, None, DELAYED_DEFAULT, False, BANDS,
+                   BRACKETS))
 
 
 def _table_order(item) -> tuple:

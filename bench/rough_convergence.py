@@ -236,8 +236,9 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "cells per a0; the 1024² state read 0.2865 where its band was up to 1.2 % "
              "narrower than a0 on fronts near the slopes 1/3 and 3/10, before the band "
              "levels of `along_front.band_levels`, so the band is not what moves it); at "
-             "3.9 µm it is 1.1 % and 0.9 % smaller at 256² and 512² (a0, numerical here, is "
-             "not yet small against the patches).",
+             "3.9 µm (tables before the bracket secant) it is 1.1 % and 0.9 % smaller at 256² "
+             "and 512² than the 7.8 µm states of that rule (a0, numerical here, is not yet "
+             "small against the patches).",
              "- **The state at a load is not unique.** Adhesion makes the contact "
              "hysteretic: at 1e4 Pa the elastic unloading state holds 5.7 % and 4.3 % more area "
              "than the loading state at 256² and 512² (both balanced; up to 11 % with the a0 "

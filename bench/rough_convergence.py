@@ -59,10 +59,18 @@ RATE_KEYS = ("G1", "G2", "mu_adhesive")
 #: of their own
 BANDS = "advance"
 #: the bracket rule of the runs recorded now: a 2-cycle deeper than one cell places its edge
-#: by the secant through both masks' offsets (spectralbem.brackets, docs/theory.md,
-#: "Convergence"); rows without it clipped every bracketed edge into its flipping cell
-#: ("clip") and form tables of their own
-BRACKETS = "secant"
+#: by the secant through both masks' offsets, and bisects it where one offset lies beyond
+#: the band (a snap; spectralbem.brackets, docs/theory.md, "Convergence"); rows of the rules
+#: before form tables of their own: "secant" (deep snaps clipped into their flipping cell)
+#: and "clip" (every bracketed edge clipped into its flipping cell; rows without the key)
+BRACKETS = "bisect"
+#: the header note of the tables of earlier bracket rules
+BRACKETS_BEFORE = {
+    "secant": ", **before the snap bisection**: a deep 2-cycle whose offsets lie beyond the "
+              "band clipped into its flipping cell",
+    "clip": ", **before the bracket secant**: every 2-cycle's edge clipped into its "
+            "flipping cell",
+}
 
 
 def _old_rates(r: dict) -> bool:
@@ -305,8 +313,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
                      + (" (default)" if dk == DELAYED_DEFAULT else " (`--delayed-kernel`)"))
                   + ("" if bnd == BANDS else ", **before the advance band**: each front "
                      "cell's band a0 wide per front length")
-                  + ("" if brk == BRACKETS else ", **before the bracket secant**: every "
-                     "2-cycle's edge clipped into its flipping cell"),
+                  + BRACKETS_BEFORE.get(brk, ""),
                   "",
                   "| N | step | status | balanced | area | mean gap (µm) | μ | μ_a | G1/Δγ | "
                   "G2/Δγ | crack tips (mm) | CPU s |",

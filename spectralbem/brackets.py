@@ -13,9 +13,15 @@ the secant through them: a fraction |s_c| / (|s_p| + |s_c|) of D back from this 
 edge, exact when the offset is linear in the mask's position, whatever its slope (a slope
 below −1, each mask's estimate over-responding to its own position, is what makes the
 mask flip).  That edge is the one the residual measures and the outputs read, and the
-mask moves to it: only the flipped cells beyond it move back.  Where the two offsets do
-not change sign, or one lies beyond the whole band (±inf, a snap: no position to draw a
-secant through), the one-cell clip stays (docs/theory.md, "Known limits").
+mask moves to it: only the flipped cells beyond it move back.  Where one of the two offsets
+lies beyond the whole band (±inf, a snap: no position to draw a secant through) the
+bracket is bisected: the edge is placed half way, D/2 back from this mask's edge, the mask
+moves back to it, and until a bracket one cell deep is left the cell is not balanced (its
+residual is that of the bracket's far end, D − ½ cells: where inside the bracket the edge
+lies is not known).  Where the two offsets do not change sign the one-cell clip stays
+(such a flip comes from the viscoelastic mover's square-root fit; the linear offset of this
+mask then says balanced or beyond its edge, where the residual does not read an inner
+cell's offset).
 """
 
 from __future__ import annotations
@@ -24,7 +30,8 @@ import numpy as np
 
 from .front import bracketed
 
-__all__ = ["flip_memory", "kept", "bracket_offsets", "place", "across", "DEEP_MOVE"]
+__all__ = ["flip_memory", "kept", "bracket_offsets", "place", "far_ends", "across",
+           "DEEP_MOVE"]
 
 #: a flipping cell's last move counts as deeper than one cell beyond this many cells along
 #: the normal (one layer at a staircase corner is √2 cells)
@@ -57,22 +64,26 @@ def kept(memory, moved):
 
 def _secant(s_p, s_c, depth):
     """The edge's offset from this mask (m) by the secant through the two masks' offsets
-    (module docstring); nan where they do not change sign or one is not finite."""
+    (module docstring), half way (``depth``/2, toward the last mask) where they change sign
+    and one is not finite (a snap); nan where they do not change sign.  Returns (offsets,
+    snap: bool)."""
     a_p, a_c = np.abs(s_p), np.abs(s_c)
+    change = np.sign(s_p) * np.sign(s_c) < 0
+    finite = np.isfinite(s_p) & np.isfinite(s_c)
     with np.errstate(invalid="ignore", divide="ignore"):
-        t = a_c / (a_p + a_c)
+        t = np.where(finite, a_c / (a_p + a_c), 0.5)
     x = np.sign(s_c) * t * depth
-    ok = (np.sign(s_p) * np.sign(s_c) < 0) & np.isfinite(s_p) & np.isfinite(s_c)
-    return np.where(ok, x, np.nan)
+    return np.where(change, x, np.nan), change & ~finite
 
 
 def bracket_offsets(tests, add, remove, last_change, memory, s_out, s_in, hmin):
     """The bracketed front cells of this test (``add``, ``remove``: its moves; ``memory``:
     :func:`flip_memory` of the last move, None if unknown): (one-deep, deep) where
     ``one-deep`` (bool, N²) marks the front cells whose edge is taken inside their flipping
-    cell (clipped to ± h/2 by the caller: a last move one cell deep, or a deeper one the
-    secant cannot place) and ``deep`` lists [(outer side, front cells, offsets (m))] of the
-    cells whose last move went deeper, their edge placed by the secant."""
+    cell (clipped to ± h/2 by the caller: a last move one cell deep, or a deeper one whose
+    offsets do not change sign) and ``deep`` lists [(outer side, front cells, offsets (m),
+    snap: bool)] of the cells whose last move went deeper, their edge placed by the secant,
+    or half way where it bisects a snap (:func:`far_ends`)."""
     one = bracketed(tests, add, remove, last_change)
     if memory is None or memory[0].size == 0:
         return one, []
@@ -91,7 +102,7 @@ def bracket_offsets(tests, add, remove, last_change, memory, s_out, s_in, hmin):
             continue
         c, pos, depth = c[far], pos[far], depth[far]
         own = owner.ravel()[c]
-        x = _secant(s_p[pos], s.ravel()[own], depth)
+        x, snap = _secant(s_p[pos], s.ravel()[own], depth)
         owners, slot = np.unique(own, return_inverse=True)
         # the deepest flipping cell of each front cell places its edge
         best = np.full(owners.size, -1.0)
@@ -100,18 +111,35 @@ def bracket_offsets(tests, add, remove, last_change, memory, s_out, s_in, hmin):
         n = np.bincount(slot[pick], minlength=owners.size)
         xs = np.bincount(slot[pick], weights=np.nan_to_num(x[pick]), minlength=owners.size)
         bad = np.bincount(slot[pick], weights=np.isnan(x[pick]), minlength=owners.size) > 0
+        snapped = np.bincount(slot[pick], weights=snap[pick], minlength=owners.size) > 0
         vals = np.where(bad, np.nan, xs / np.maximum(n, 1))
         placed = np.isfinite(vals)  # the others keep the one-cell clip
         one.ravel()[owners[placed]] = False
-        deep.append((outer, owners[placed], vals[placed]))
+        deep.append((outer, owners[placed], vals[placed], snapped[placed]))
     return one, deep
 
 
 def place(deep, s_out, s_in) -> None:
     """Set the secant offsets of ``deep`` (:func:`bracket_offsets`) on ``s_out``, ``s_in``
     in place."""
-    for outer, owners, x in deep:
+    for outer, owners, x, _ in deep:
         (s_out if outer else s_in).ravel()[owners] = x
+
+
+def far_ends(deep, s_out, s_in, residual):
+    """``residual()`` evaluated with the bisected snaps of ``deep`` at their bracket's far
+    end (twice the half-way offset: the last mask's edge), their placed offsets restored
+    after it: where inside a snap's bracket the edge lies is not known, so the residual
+    takes the farthest it may be."""
+    snaps = [(s_out if outer else s_in, owners[snap], x[snap])
+             for outer, owners, x, snap in deep if snap.any()]
+    for arr, owners, x in snaps:
+        arr.ravel()[owners] = 2.0 * x
+    try:
+        return residual()
+    finally:
+        for arr, owners, x in snaps:
+            arr.ravel()[owners] = x
 
 
 def _neighbours(cells: np.ndarray, shape) -> tuple:
@@ -137,7 +165,7 @@ def across(s_out, s_in, outer, inner, one, deep, hmin) -> None:
         sign = -1.0 if outer_side else 1.0  # the bracketed side's direction
         cells = [np.flatnonzero(one & other)]
         vals = [np.full(cells[0].size, sign * hmin)]
-        for side, owners, x in deep:
+        for side, owners, x, _ in deep:
             if side != outer_side:
                 cells.append(owners)
                 vals.append(x)

@@ -11,7 +11,7 @@ from scipy import ndimage
 
 from .adjoint import complete_adjoint
 from .band_starts import BandStarts
-from .brackets import across, bracket_offsets, flip_memory, kept, place
+from .brackets import across, bracket_offsets, far_ends, flip_memory, kept, place
 from .contact import full_contact
 from .criterion import (
     front_cells,
@@ -349,7 +349,8 @@ class FrontIteration:
         if bracket.any() or deep:  # the cells across the front: the same edge
             across(s_out, s_in, outer, inner, bracket, deep, hmin)
         self.s_out, self.s_in = s_out, s_in
-        rmax, r = balance_residual(s_out, s_in, res_out, res_in, ~held, hmin)
+        rmax, r = far_ends(deep, s_out, s_in, lambda: balance_residual(
+            s_out, s_in, res_out, res_in, ~held, hmin))
         if self.mean_pressure is not None and self.mean_pressure < 0:
             stuck = unverified_pins(mask, stuck & res_in, res_in & ~held)
         else:

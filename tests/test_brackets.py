@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from spectralbem.bands import bands
-from spectralbem.brackets import _secant, bracket_offsets, flip_memory
+from spectralbem.brackets import _secant, bracket_offsets, far_ends, flip_memory, place
 
 
 @settings(max_examples=60, deadline=None)
@@ -21,17 +21,20 @@ def test_secant_is_the_root_of_an_offset_linear_in_the_mask_position(frac, k, de
     xc = depth if out else -depth
     xs = xp + frac * (xc - xp)  # the root lies between the two masks
     s_p, s_c = k * (xs - xp), k * (xs - xc)
-    assert np.isclose(_secant(np.array([s_p]), np.array([s_c]), float(depth))[0], xs - xc,
-                      rtol=1e-12, atol=1e-12)
+    x, snap = _secant(np.array([s_p]), np.array([s_c]), float(depth))
+    assert np.isclose(x[0], xs - xc, rtol=1e-12, atol=1e-12) and not snap[0]
 
 
 def test_secant_of_offsets_that_bracket_nothing_or_lie_beyond_the_band():
-    """No change of sign, or an offset beyond the whole band (±inf, a snap: no position
-    to draw a secant through): nan (the caller keeps the one-cell bracket's clip)."""
-    got = _secant(np.array([1.0, np.inf, 2.0, np.inf, -3.0]),
-                  np.array([0.5, -1.0, -np.inf, -np.inf, 1.0]), 2.0)
-    assert np.isnan(got[:4]).all()
+    """No change of sign: nan (the caller keeps the one-cell bracket's clip); an offset
+    beyond the whole band (±inf, a snap: no position to draw a secant through) with a change
+    of sign: half way, toward the last mask, flagged as a snap to bisect."""
+    got, snap = _secant(np.array([1.0, np.inf, 2.0, np.inf, -3.0, np.inf]),
+                        np.array([0.5, -1.0, -np.inf, -np.inf, 1.0, np.inf]), 2.0)
+    assert np.isnan(got[[0, 5]]).all()
+    np.testing.assert_array_equal(got[1:4], [-1.0, -1.0, -1.0])
     assert got[4] == 2.0 * 1.0 / 4.0
+    np.testing.assert_array_equal(snap, [False, True, True, True, False, False])
 
 
 def _strip(edge: int, n: int = 40):
@@ -61,8 +64,8 @@ def test_a_two_cell_cycle_places_the_edge_by_both_masks():
     one, deep = bracket_offsets(SimpleNamespace(bands=b), np.zeros_like(this), remove, add,
                                 memory, s_out, s_in, h)
     assert not one.any()
-    (outer, owners, x), = deep
-    assert not outer
+    (outer, owners, x, snap), = deep
+    assert not outer and not snap.any()
     np.testing.assert_array_equal(np.sort(owners), np.flatnonzero(b.inner_front & (
         np.arange(40)[:, None] == 23)))
     np.testing.assert_allclose(x, -2 * 1.62 / (2.874 + 1.62), rtol=1e-12)
@@ -75,6 +78,46 @@ def test_a_two_cell_cycle_places_the_edge_by_both_masks():
     one, deep = bracket_offsets(SimpleNamespace(bands=b), np.zeros_like(this), remove, add1,
                                 memory1, s_out, s_in, h)
     assert deep == [] and one[23].all() and one.sum() == 2
+
+
+def test_a_two_cell_snap_is_bisected_and_not_balanced_until_resolved():
+    """The last mask (ending at cell 21) sent its edge beyond the whole band (+inf) and
+    added cells 22 and 23; this mask's test sends it back beyond its band (−inf) and opens
+    both.  No secant exists: the edge is placed half way, one cell inside this mask's edge
+    (so that the move back opens cell 23 only, the nearest-centre rule), and the residual
+    reads the bracket's far end, the last mask's edge two cells inside: 1.5 cells, beyond
+    the default tolerance (a clip into the flipping cell read 0)."""
+    from spectralbem.front import balance_residual
+    from spectralbem.moves import moves
+
+    h, a0 = 1.0, 2.0
+    last, this = _strip(21), _strip(23)
+    b_last = bands(last, h, h, a0)
+    add = this & ~last
+    memory = flip_memory(SimpleNamespace(bands=b_last), add, np.zeros_like(add),
+                         np.where(b_last.outer_front, np.inf, np.nan),
+                         np.full(last.shape, np.nan))
+    b = bands(this, h, h, a0)
+    tests = SimpleNamespace(bands=b, F=np.zeros(this.shape),  # every opened cell leaves a gap
+                            g_band=np.ones(int(b.inner_band.sum())))
+    s_out = np.full(this.shape, np.nan)
+    s_in = np.where(b.inner_front, 0.0, np.nan)  # the strip's other edge balanced
+    s_in[20:][b.inner_front[20:]] = -np.inf
+    remove = this & ~last
+    one, deep = bracket_offsets(tests, np.zeros_like(this), remove, add, memory, s_out, s_in,
+                                h)
+    (outer, owners, x, snap), = deep
+    assert not outer and snap.all() and not one[22:24].any()
+    np.testing.assert_allclose(x, -1.0)
+    place(deep, s_out, s_in)
+    top = b.inner_front & (np.arange(40)[:, None] == 23)
+    res = np.zeros_like(this)
+    rmax, r = far_ends(deep, s_out, s_in, lambda: balance_residual(
+        s_out, s_in, res, top, np.ones_like(this), h))
+    assert rmax == 1.5 and r.size == 2
+    np.testing.assert_allclose(s_in[top], -1.0)  # the placed edge restored after it
+    _, rem = moves(tests, this, s_out, s_in, np.zeros(this.shape), np.zeros_like(this), h)
+    np.testing.assert_array_equal(np.flatnonzero(rem.any(axis=1)), [23])
 
 
 def test_a_wide_band_state_reports_an_edge_within_its_tolerance():

@@ -30,8 +30,8 @@ import numpy as np
 
 from .front import bracketed
 
-__all__ = ["flip_memory", "kept", "bracket_offsets", "place", "far_ends", "across",
-           "DEEP_MOVE"]
+__all__ = ["flip_memory", "kept", "bracket_offsets", "place", "far_ends", "snap_cells",
+           "across", "DEEP_MOVE"]
 
 #: a flipping cell's last move counts as deeper than one cell beyond this many cells along
 #: the normal (one layer at a staircase corner is √2 cells)
@@ -140,6 +140,22 @@ def far_ends(deep, s_out, s_in, residual):
     finally:
         for arr, owners, x in snaps:
             arr.ravel()[owners] = x
+
+
+def snap_cells(tests, deep):
+    """The band cells (bool, N²) whose front cell's snap ``deep`` bisects, or None: the
+    move back to the half-way edge is the bisection's step, made whatever the rescue of an
+    oscillating front holds back (``moves``' ``wide``: a half-way edge on a cell boundary
+    lies within its extra reach, and the bracket would never shrink)."""
+    snaps = [(outer, owners[snap]) for outer, owners, _, snap in deep if snap.any()]
+    if not snaps:
+        return None
+    b = tests.bands
+    out = np.zeros(b.outer_owner.shape, bool)
+    for outer, owners in snaps:
+        owner = b.outer_owner if outer else b.inner_owner
+        out |= np.isin(owner, owners)
+    return out
 
 
 def _neighbours(cells: np.ndarray, shape) -> tuple:

@@ -11,7 +11,15 @@ from scipy import ndimage
 
 from .adjoint import complete_adjoint
 from .band_starts import BandStarts
-from .brackets import across, bracket_offsets, far_ends, flip_memory, kept, place
+from .brackets import (
+    across,
+    bracket_offsets,
+    far_ends,
+    flip_memory,
+    kept,
+    place,
+    snap_cells,
+)
 from .contact import full_contact
 from .criterion import (
     front_cells,
@@ -119,6 +127,7 @@ class FrontIteration:
         self.escaped = False  # the mask moved once off a jump of the front's load
         self.osc = Oscillation(cell.shape)
         self.wide = None  # the oscillating cells of a rescued front (moved only if unbalanced)
+        self.snap_free = None  # band cells of the snaps this test bisects (brackets.snap_cells)
         self.opened = np.zeros(cell.shape, bool)  # cells the criterion opened in this solve
         self.last_change = np.zeros(cell.shape, bool)
         self.flip_prev = self.flip_next = None  # brackets.flip_memory of the last move
@@ -337,10 +346,12 @@ class FrontIteration:
         bracket, deep = bracket_offsets(tests, add, remove, self.last_change, self.flip_prev,
                                         s_out, s_in, hmin)
         memory = flip_memory(tests, add, remove, s_out, s_in)  # this mask's own offsets
+        self.snap_free = None
         if deep:
             place(deep, s_out, s_in)
             if self.moves_to is not None:
                 place(deep, self.moves_to, self.moves_to)
+            self.snap_free = snap_cells(tests, deep)
             add, remove = self._moves(w, s_out, s_in)
         self.flip_next = memory
         # a one-deep bracketed edge lies inside its flipping cell: its centre ± h/2
@@ -383,11 +394,14 @@ class FrontIteration:
         (``moves_to``, docs/theory.md), and by the balance's own wherever that lies beyond
         the acceptance band, so that no cell the balance calls unbalanced is left where it
         stands (the two fits disagree by a fraction of a cell)."""
+        wide = self.wide
+        if wide is not None and self.snap_free is not None:  # a bisection's step is made
+            wide = wide & ~self.snap_free
         if self.moves_to is None:
             return moves(self.tests, self.mask, s_out, s_in, w, self.pinned, self.hmin,
-                         self.wide, self.front_tol)
+                         wide, self.front_tol)
         add, remove = moves(self.tests, self.mask, self.moves_to, self.moves_to, w,
-                            self.pinned, self.hmin, self.wide, self.front_tol)
+                            self.pinned, self.hmin, wide, self.front_tol)
         beyond = np.ones(self.mask.shape, bool)
         a_lin, r_lin = moves(self.tests, self.mask, s_out, s_in, w, self.pinned, self.hmin,
                              beyond, self.front_tol)

@@ -8,7 +8,14 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from spectralbem.bands import bands
-from spectralbem.brackets import _secant, bracket_offsets, far_ends, flip_memory, place
+from spectralbem.brackets import (
+    _secant,
+    bracket_offsets,
+    far_ends,
+    flip_memory,
+    place,
+    snap_cells,
+)
 
 
 @settings(max_examples=60, deadline=None)
@@ -117,6 +124,18 @@ def test_a_two_cell_snap_is_bisected_and_not_balanced_until_resolved():
     assert rmax == 1.5 and r.size == 2
     np.testing.assert_allclose(s_in[top], -1.0)  # the placed edge restored after it
     _, rem = moves(tests, this, s_out, s_in, np.zeros(this.shape), np.zeros_like(this), h)
+    np.testing.assert_array_equal(np.flatnonzero(rem.any(axis=1)), [23])
+    # after the rescue of an oscillating front (every cell ``wide``: it moves only beyond
+    # the tolerance, 0.5 cells more) the half-way edge on the cell boundary would move
+    # nothing; the bisection's step is made all the same
+    wide = np.ones_like(this)
+    held = moves(tests, this, s_out, s_in, np.zeros(this.shape), np.zeros_like(this), h,
+                 wide, 0.5)[1]
+    assert not held.any()
+    free = snap_cells(tests, deep)
+    np.testing.assert_array_equal(np.flatnonzero(free.any(axis=1)), [22, 23])
+    _, rem = moves(tests, this, s_out, s_in, np.zeros(this.shape), np.zeros_like(this), h,
+                   wide & ~free, 0.5)
     np.testing.assert_array_equal(np.flatnonzero(rem.any(axis=1)), [23])
 
 

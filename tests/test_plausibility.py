@@ -146,10 +146,10 @@ def test_small_patch_diameter_is_the_area_weighted_tenth():
 def test_a0_large_against_the_patches_found_is_named(a0, warned, tmp_path, capsys):
     """After the solve: the JKR sphere at 64² holds one disc (the mask) of diameter 0.20-0.30
     mm, a0 = 32 µm (two cells: the band a0 wide at every orientation; the edge extrapolated
-    to a0 → 0 by default) is 0.14 of it on the unloading step (warned, named, printed by
-    ``run``; the mask of radius 114.6 µm there lies 0.65 cell outside the estimated sub-cell
-    front, 104.4 µm against JKR's 100.5 µm: a patch 3.3 a0 in radius, the coarse end of the
-    band rule, docs/theory.md); a0 = 16 µm (0.08) is not warned."""
+    to a0 → 0 by default) is 0.15 of it on the unloading step (warned, named, printed by
+    ``run``; the mask of 146 cells there, radius 106.5 µm, lies 0.2 cell outside the
+    estimated sub-cell front, 103.4 µm against JKR's 100.5 µm: a patch 3.2 a0 in radius, the
+    coarse end of the band rule, docs/theory.md); a0 = 16 µm (0.08) is not warned."""
     import spectralbem as sb
     from spectralbem.plausibility import state_warnings
 
@@ -165,15 +165,15 @@ def test_a0_large_against_the_patches_found_is_named(a0, warned, tmp_path, capsy
     assert [str(w.message) for w in rec if w.category is PlausibilityWarning] == msgs
     assert bool(msgs) is warned
     if warned:
-        assert "adhesion.a0: 3.2e-05 m is 0.14 of the small contact patches" in msgs[0]
+        assert "adhesion.a0: 3.2e-05 m is 0.15 of the small contact patches" in msgs[0]
         assert cli.main(["run", str(CASES / "jkr_sphere.toml"), "-o", str(tmp_path / "j.nc"),
                          "-q"] + [f"--set={k}={v}" for k, v in over.items()]) == 0
-        assert "warning: adhesion.a0: 3.2e-05 m is 0.14 " in capsys.readouterr().err
+        assert "warning: adhesion.a0: 3.2e-05 m is 0.15 " in capsys.readouterr().err
         out = tmp_path / "s.nc"
         assert cli.main(["run", str(CASES / "jkr_sphere.toml"), "-o", str(out), "-q",
                          "--strict"] + [f"--set={k}={v}" for k, v in over.items()]) == 1
         assert (f"implausible (--strict, dataset written to {out}): adhesion.a0: 3.2e-05 m "
-                "is 0.14 ") in capsys.readouterr().err and out.exists()
+                "is 0.15 ") in capsys.readouterr().err and out.exists()
 
 
 def test_seed_scenes_are_not_checked():

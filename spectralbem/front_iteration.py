@@ -470,7 +470,7 @@ class FrontIteration:
         self.last_change = add | remove
         self.flip_prev = kept(self.flip_next, self.last_change)
         # the tests and bands of the old mask: freed before the next state's solves
-        self.tests = self.res_out = None
+        self.tests = self.res_out = self.snap_free = None
         self.opened |= remove
         return _NEXT
 

@@ -445,10 +445,11 @@ class FrontIteration:
         if rmax <= front_tol or not moving:
             return self._correct_load(new_corr, add, remove)
         reason = self.osc.step(mask, add | remove)
-        if reason and self.wide is None and self.it < self.max_outer:
+        if (reason or self.osc.wandering) and self.wide is None and self.it < self.max_outer:
             # rescue, once: the cells that oscillate move from now on only when their front
             # cell is unbalanced (beyond the acceptance band), so a front that oscillates
-            # inside it settles; the status rule is unchanged (every cell balanced)
+            # inside it settles; the status rule is unchanged (every cell balanced); also for
+            # a wandering front, whose moves are mostly such cells (moves.Oscillation)
             osc = self.osc
             self.wide = osc.flips >= min(OSCILLATION_FLIPS, int(osc.flips.max()))
             self.osc = Oscillation(self.op.cell.shape)

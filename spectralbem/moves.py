@@ -339,9 +339,9 @@ class Oscillation:
         if key in self.seen:
             return "the mask returned to an earlier state (a cycle)"
         self.seen.add(key)
-        old = self.flips[change]
-        self.run = self.run + 1 if old.size and old.min() >= OSCILLATION_FLIPS else 0
-        share = float(np.mean(old >= OSCILLATION_FLIPS)) if old.size else 0.0
+        oscillating = self.flips[change] >= OSCILLATION_FLIPS
+        share = float(oscillating.mean()) if oscillating.size else 0.0
+        self.run = self.run + 1 if share == 1.0 else 0
         self.mostly = self.mostly + 1 if share >= OSCILLATING_SHARE else 0
         self.flips[change] += 1
         if self.run >= OSCILLATION_RUN:

@@ -4,14 +4,15 @@ The surface of ``cases/rough_convergence.toml`` (L = 1 mm, H = 0.8, roll-off 250
 62.5 µm, rms slope 0.1, seed 3: the same Fourier coefficients at every N), elastic
 (E = 1 MPa) or standard linear solid (E0 = 1 MPa, β = 10, τ = 10 ms, ζ = 0.1 at the roll-off),
 ν = 0.5, Δγ = 0.01 J/m², a0 fixed in metres, along the load path 1e4 → 3e4 → 1e4 Pa
-(loading, then unloading to the first load).  For each N: area fraction (sub-cell front),
+(loading, then unloading to the first load; ``--path stepped`` goes there and back in steps
+of 5 kPa, each state from the last).  For each N: area fraction (sub-cell front),
 mean gap, μ, μ_a, G1, G2, the hysteresis (unloading/loading area at 1e4 Pa − 1), statuses,
 balanced fractions and CPU time; then the observed order and a Richardson estimate of the
 error of each N from the three finest grids.
 
 Usage: python bench/rough_convergence.py [--sizes 128 256 512] [--materials elastic sls]
            [--a0 7.8125e-6] [--sigma 1.5] [--front-tol 1.0] [--coarse-start] [--loading-only]
-           [--extrapolate-a0]
+           [--extrapolate-a0] [--path direct|stepped]
            [--out bench/rough_convergence.json] [--report]
        python bench/rough_convergence.py --scan
 ``--report`` only rewrites docs/rough_convergence.md from the JSON; ``--scan`` runs the
@@ -73,6 +74,43 @@ BRACKETS_BEFORE = {
 }
 
 
+#: the load paths (Pa): the direct steps of the case file, and the quasi-static path through
+#: steps of 5 kPa both ways (``--path stepped``); both hold the three states the tables
+#: compare (:func:`_ref`)
+PATHS = {"direct": (1e4, 3e4, 1e4),
+         "stepped": (1e4, 1.5e4, 2e4, 2.5e4, 3e4, 2.5e4, 2e4, 1.5e4, 1e4)}
+
+
+def _ref(r: dict) -> tuple:
+    """The indices in a run's steps of the states the tables compare: loading at the first
+    load, the top load, unloading back to the last (the first only for a loading-only run)."""
+    p = [st["mean_pressure"] for st in r["steps"]]
+    if len(p) < 3:
+        return tuple(range(len(p)))
+    return (0, int(np.argmax(p)), len(p) - 1)
+
+
+def _state(r: dict, k: int) -> dict:
+    """The k-th compared state of a run (0: load 1e4, 1: load 3e4, 2: unload 1e4)."""
+    return r["steps"][_ref(r)[k]]
+
+
+def _pa(p: float) -> str:
+    """A load in the tables' notation, to two digits (1e4, 1.5e4: the reached mean pressure
+    of a state is the asked one to the solver's tolerance)."""
+    e = int(np.floor(np.log10(p)))
+    m = round(p / 10**e, 1)
+    if m >= 10:
+        m, e = m / 10, e + 1
+    return f"{m:g}e{e}"
+
+
+def _step_name(r: dict, j: int) -> str:
+    """The name of a run's j-th step: "load" up to the top load, "unload" after it."""
+    top = _ref(r)[1] if len(_ref(r)) > 1 else len(r["steps"])
+    return ("load " if j <= top else "unload ") + _pa(r["steps"][j]["mean_pressure"])
+
+
 def _old_rates(r: dict) -> bool:
     """A viscoelastic row whose G1, G2, μ_a are the per-owner ratios of before."""
     return r["material"] != "elastic" and r.get("release_rates") != RATES
@@ -112,12 +150,13 @@ def _solve(n: int, material: str, a0: float, sigma: float | None, loads=None,
 def run_one(n: int, material: str, a0: float, sigma: float | None,
             coarse: bool = False, loading_only: bool = False,
             front_tol: float | None = None, delayed: str = DELAYED_DEFAULT,
-            extrapolate: bool = False) -> dict:
+            extrapolate: bool = False, path: str = "direct") -> dict:
     """One load path at N², the material's overrides, a0 (m), σ (units of a0, or None),
     from the adhesiveless start or the coarse grid's front (``coarse``); ``loading_only``:
     the first state of the path only (1e4 Pa); ``front_tol``: solver.front_tol (None: the
-    default); ``delayed``: solver.delayed_kernel; ``extrapolate``: solver.extrapolate_a0."""
-    ds, cpu = _solve(n, material, a0, sigma, loads=[1e4] if loading_only else None,
+    default); ``delayed``: solver.delayed_kernel; ``extrapolate``: solver.extrapolate_a0;
+    ``path``: the load path (:data:`PATHS`)."""
+    ds, cpu = _solve(n, material, a0, sigma, loads=[1e4] if loading_only else PATHS[path],
                      coarse=coarse, front_tol=front_tol, delayed=delayed,
                      extrapolate=extrapolate)
     if "step" not in ds.dims:
@@ -138,9 +177,10 @@ def run_one(n: int, material: str, a0: float, sigma: float | None,
                    message=str(st["solver_message"].values if "solver_message" in st
                                else ds.attrs["solver_message"]))
         steps.append(row)
-    hyst = (steps[2]["area_fraction"] / steps[0]["area_fraction"] - 1.0 if len(steps) > 2
+    hyst = (steps[-1]["area_fraction"] / steps[0]["area_fraction"] - 1.0 if len(steps) > 2
             else float("nan"))
     return dict(N=n, material=material, a0=a0, sigma=sigma, cpu=cpu, steps=steps,
+                path="direct" if loading_only else path,
                 hysteresis=hyst, coarse_start=coarse, loading_only=loading_only,
                 release_rates=RATES, bands=BANDS, brackets=BRACKETS,
                 front_tol=front_tol, extrapolate_a0=extrapolate,
@@ -157,12 +197,13 @@ def _key(r: dict) -> tuple:
     """A run's table: material, a0, σ, the start (rows before the coarse start: False),
     whether it is the loading state alone, the tolerance in position (None: default), the
     discretisation of the kernel's delayed part, the extrapolation of the elastic edge
-    in a0, the band rule (rows before :data:`BANDS`: "width") and the bracket rule (rows
-    before :data:`BRACKETS`: "clip")."""
+    in a0, the band rule (rows before :data:`BANDS`: "width"), the bracket rule (rows
+    before :data:`BRACKETS`: "clip") and the load path (:data:`PATHS`; rows before it:
+    "direct")."""
     return (r["material"], r["a0"], r["sigma"], bool(r.get("coarse_start", False)),
             bool(r.get("loading_only", False)), r.get("front_tol"), _kernel(r),
             bool(r.get("extrapolate_a0", False)), r.get("bands", "width"),
-            r.get("brackets", "clip"))
+            r.get("brackets", "clip"), r.get("path", "direct"))
 
 
 def scan_one(n: int, a0_cells: float, sigma: float | None) -> dict:
@@ -288,6 +329,18 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "0.3024-0.3029 (0.2 %); the 512² unloading state sampled at 256² is balanced "
              "there too, and the 256² state carried to 512² recedes to the 512² path's "
              "state ([docs/theory.md, \"Load-path steps\"](theory.md#load-path-steps)).",
+             "- **Loaded and unloaded in steps of 5 kPa** (`--path stepped`, the table "
+             "\"in steps\"), the three compared states meet the 2 % and 5 % lines from 256² "
+             "to 512²: area 1.2, 0.4, 0.0 %, μ 0.2, 0.2, 0.3 %, G1 0.9, 0.5, 0.9 %, G2 0.5, "
+             "0.6, 0.6 %, μ_a 2.6, 3.5, 0.5 % at load 1e4, 3e4 and unload 1e4 (unloading area "
+             "0.2247 and 0.2248, μ 0.01631 and 0.01636). The intermediate states do not all: "
+             "area, μ, G1 and G2 stay within 0.8 % at every step, but μ_a moves by 5.1, 7.9 "
+             "and 10.8 % at load 1.5e4, 2.5e4 and unload 2e4, and the 512² state at unload "
+             "1.5e4 Pa ends `not_converged` (its front oscillates with 99.7 % balanced after "
+             "298 front iterations, substeps down to 1/8 of the step included; the next step "
+             "starts from it and converges). μ_a along the path scatters by 5-10 % "
+             "at 1-2 cells per vτ: the spread of neighbouring balanced states, not a trend "
+             "in N. CPU 9, 77 and 1609 s at 128²-512² for the nine states.",
              "- **μ_a at 3e4 Pa and on unloading** is not converged along the direct steps: "
              "5.7 % and 18.5 % from 256² to 512² (before the bracket secant 12.0 % and 9.8 % "
              "from 512² to 1024²; 2.1 % on unloading in steps, above; at 3e4 Pa the paths "
@@ -312,8 +365,8 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
     by = {}
     for r in runs:
         by.setdefault(_key(r), []).append(r)
-    for (mat, a0, sig, coarse, only, ftol, dk, ex, bnd, brk), rs in sorted(by.items(),
-                                                                      key=_table_order):
+    for (mat, a0, sig, coarse, only, ftol, dk, ex, bnd, brk, pth), rs in sorted(
+            by.items(), key=_table_order):
         rs = sorted(rs, key=lambda r: r["N"])
         lines += [f"### {mat}, a0 = {a0 * 1e6:g} µm, front smoothing σ = "
                   f"{f'default ({_default_sigma(mat):g} a0)' if sig is None else f'{sig:g} a0'}"
@@ -325,7 +378,9 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
                      + (" (default)" if dk == DELAYED_DEFAULT else " (`--delayed-kernel`)"))
                   + ("" if bnd == BANDS else ", **before the advance band**: each front "
                      "cell's band a0 wide per front length")
-                  + BRACKETS_BEFORE.get(brk, ""),
+                  + BRACKETS_BEFORE.get(brk, "")
+                  + ("" if pth == "direct" else ", loaded and unloaded in steps of 5 kPa "
+                     "(`--path stepped`)"),
                   "",
                   "| N | step | status | balanced | area | mean gap (µm) | μ | μ_a | G1/Δγ | "
                   "G2/Δγ | crack tips (mm) | CPU s |",
@@ -333,7 +388,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
         for r in rs:
             m = "†" if _old_rates(r) else ""
             for k, st in enumerate(r["steps"]):
-                name = ("load 1e4", "load 3e4", "unload 1e4")[k]
+                name = _step_name(r, k)
                 lines.append(
                     f"| {r['N']} | {name} | {st['status']} | {st['balanced_fraction']:.3f} | "
                     f"{st['area_fraction']:.4f} | {st['mean_gap'] * 1e6:.4f} | "
@@ -356,7 +411,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
                     else ("area_fraction", "mean_gap", "mu"))
             for k, name in steps:
                 for key in keys:
-                    vals = [r["steps"][k][key] for r in rs]
+                    vals = [_state(r, k)[key] for r in rs]
                     if max(abs(v) for v in vals) < 1e-12:  # zero to round-off (elastic μ)
                         continue
                     if key in RATE_KEYS and any(_old_rates(r) for r in rs[-3:]):
@@ -381,9 +436,10 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
     figure(runs, scans, path.parent / "figures" / "rough_convergence.png")
 
 
-def _series(runs, material, step, key, coarse=False, only=None, a0=A0):
-    """(N, value, verified) of one quantity of one step along a table's grids at ``a0`` (the
-    adhesiveless-start path and, where ``only`` is None, the loading-only runs too)."""
+def _series(runs, material, step, key, coarse=False, only=None, a0=A0, path="direct"):
+    """(N, value, verified) of one quantity of one compared state (:func:`_state`) along a
+    table's grids at ``a0`` (the adhesiveless-start path and, where ``only`` is None, the
+    loading-only runs too) along the load path ``path``."""
     pts = {}
     for r in runs:
         if (r["material"] != material or bool(r.get("coarse_start", False)) != coarse
@@ -391,11 +447,11 @@ def _series(runs, material, step, key, coarse=False, only=None, a0=A0):
                 or r["sigma"] is not None or r.get("front_tol") is not None
                 or r.get("extrapolate_a0", False)
                 or _kernel(r) not in (None, DELAYED_DEFAULT)
-                or step >= len(r["steps"])):
+                or r.get("path", "direct") != path or step >= len(_ref(r))):
             continue
         if only is not None and bool(r.get("loading_only", False)) != only:
             continue
-        st = r["steps"][step]
+        st = _state(r, step)
         if key in st:
             pts.setdefault(r["N"], (st[key], _verified(r, step)))
     ns = sorted(pts)
@@ -434,6 +490,8 @@ def figure(runs: list, scans: list, out: Path) -> None:
         _plot(asls, *_series(runs, "sls", k, "area_fraction"), names[k], color=col)
         _plot(asls, *_series(runs, "sls", k, "area_fraction", coarse=True), start, "--",
               "s", col)
+        _plot(asls, *_series(runs, "sls", k, "area_fraction", path="stepped"),
+              "in steps of 5 kPa" if k == 0 else "", "-.", "D", col)
     one = sorted((r for r in scans if r["a0_cells"] == 1 and r["sigma"] is None),
                  key=lambda r: r["N"])
     _plot(ae, [r["N"] for r in one], [r["area_fraction"] for r in one],
@@ -443,10 +501,11 @@ def figure(runs: list, scans: list, out: Path) -> None:
           f"loading, a0 = {A0 / 2 * 1e6:.2g} µm", "-.", "v", "C4")
     for k, col, mk in ((0, "C0", "*"), (2, "C3", "P")):  # the edge extrapolated to a0 → 0
         ex = sorted((r for r in runs if r["material"] == "elastic" and r.get("extrapolate_a0")
-                     and abs(r["a0"] - A0) <= 1e-6 * A0 and len(r["steps"]) > k),
+                     and abs(r["a0"] - A0) <= 1e-6 * A0 and len(_ref(r)) > k
+                     and r.get("path", "direct") == "direct"),
                     key=lambda r: r["N"])
         if ex:
-            _plot(ae, [r["N"] for r in ex], [r["steps"][k]["area_fraction"] for r in ex],
+            _plot(ae, [r["N"] for r in ex], [_state(r, k)["area_fraction"] for r in ex],
                   [_verified(r, k) for r in ex],
                   ("loading" if k == 0 else "unloading") + ", edge extrapolated",
                   ":", mk, col)
@@ -467,6 +526,8 @@ def figure(runs: list, scans: list, out: Path) -> None:
         _plot(ama, *_series(runs, "sls", k, "mu_adhesive"), name, color=col)
         _plot(ama, *_series(runs, "sls", k, "mu_adhesive", coarse=True),
               "coarse-grid start" if k == 0 else "", "--", "s", col)
+        _plot(ama, *_series(runs, "sls", k, "mu_adhesive", path="stepped"),
+              "in steps of 5 kPa" if k == 0 else "", "-.", "D", col)
         ns, vals, ok = _series(runs, "sls", k, "crack_tip_length")
         _plot(atip, ns, [1e3 * v for v in vals], ok, name, color=col)
     titles = (f"elastic, a0 = {A0 * 1e6:.2g} µm (and as noted): area fraction",
@@ -492,7 +553,8 @@ def figure(runs: list, scans: list, out: Path) -> None:
 
 
 def _verified(run: dict, k: int) -> bool:
-    return run["steps"][k]["status"] in ("partial", "full_contact", "detached")
+    """Whether the k-th compared state (:func:`_state`) holds a verified status."""
+    return _state(run, k)["status"] in ("partial", "full_contact", "detached")
 
 
 #: the quantities compared between 256² and 512² and the relative tolerance each must meet
@@ -511,12 +573,20 @@ def _pair_table(rs: list, pair=(256, 512)) -> list:
              "slash):", "",
              "| step | " + " | ".join(k for k, _ in PAIR) + " |",
              "|---|" + "---|" * len(PAIR)]
-    names = ("load 1e4", "load 3e4", "unload 1e4")
-    for k, name in enumerate(names[:min(len(a["steps"]), len(b["steps"]))]):
+    # every step of a stepped path (its intermediate states too), the compared ones else
+    if a.get("path", "direct") == "stepped" and len(a["steps"]) == len(b["steps"]):
+        rows = [(j, j, _step_name(a, j)) for j in range(len(a["steps"]))]
+    else:
+        names = ("load 1e4", "load 3e4", "unload 1e4")
+        rows = [(_ref(a)[k], _ref(b)[k], name)
+                for k, name in enumerate(names[:min(len(_ref(a)), len(_ref(b)))])]
+    ok = ("partial", "full_contact", "detached")
+    for ja, jb, name in rows:
         cells = []
+        sa, sb = a["steps"][ja], b["steps"][jb]
         for key, tol in PAIR:
-            x, y = a["steps"][k][key], b["steps"][k][key]
-            if not (_verified(a, k) and _verified(b, k)):
+            x, y = sa[key], sb[key]
+            if not (sa["status"] in ok and sb["status"] in ok):
                 cells.append("unverified")
             elif key in RATE_KEYS and (_old_rates(a) or _old_rates(b)):
                 cells.append("—†" if _old_rates(a) != _old_rates(b) else "† only")
@@ -535,11 +605,12 @@ RESOLUTION_KEYS = ("area_fraction", "mu", "G1", "G2", "mu_adhesive")
 ACCURACIES = (0.05, 0.01)
 
 
-def _table_runs(runs, material: str, extrapolate: bool) -> list:
-    """The default table's runs of a material along the whole path, by N (adhesiveless
-    start, a0 = A0, default σ, tolerance and kernel)."""
+def _table_runs(runs, material: str, extrapolate: bool, path: str = "direct") -> list:
+    """The default table's runs of a material along the whole load path ``path``, by N
+    (adhesiveless start, a0 = A0, default σ, tolerance and kernel)."""
     want = (material, A0, None, False, False, None,
-            None if material == "elastic" else DELAYED_DEFAULT, extrapolate, BANDS, BRACKETS)
+            None if material == "elastic" else DELAYED_DEFAULT, extrapolate, BANDS, BRACKETS,
+            path)
     return sorted((r for r in runs if _key(r) == want and not _old_rates(r)),
                   key=lambda r: r["N"])
 
@@ -550,7 +621,7 @@ def _coarsest(rs: list, k: int, key: str, acc: float) -> str:
     rs = [r for r in rs if _verified(r, k)]
     if len(rs) < 2:
         return "—"
-    vals = [r["steps"][k][key] for r in rs]
+    vals = [_state(r, k)[key] for r in rs]
     ref = vals[-1]
     if max(abs(v) for v in vals) < 1e-12:
         return "0 (elastic)"
@@ -581,27 +652,32 @@ def resolution_table(runs: list) -> list:
              "| material | step | " + " | ".join(
                  f"{k} {100 * a:g} %" for k in RESOLUTION_KEYS for a in ACCURACIES) + " |",
              "|---|---|" + "---|" * (len(RESOLUTION_KEYS) * len(ACCURACIES))]
-    for material, ex in (("elastic", True), ("sls", False)):
-        rs = _table_runs(runs, material, ex)
+    for material, ex, path in (("elastic", True, "direct"), ("sls", False, "stepped"),
+                               ("sls", False, "direct")):
+        rs = _table_runs(runs, material, ex, path)
         if len(rs) < 2:
             continue
         names = ("load 1e4", "load 3e4", "unload 1e4")
-        for k, name in enumerate(names[:min(len(r["steps"]) for r in rs)]):
+        for k, name in enumerate(names[:min(len(_ref(r)) for r in rs)]):
             cells = [_coarsest(rs, k, key, a) if not (material == "elastic"
                                                       and key != "area_fraction")
                      else "—" for key in RESOLUTION_KEYS for a in ACCURACIES]
             grids = ", ".join(f"{r['N']}²" for r in rs)
-            lines.append(f"| {material} ({grids}) | {name} | " + " | ".join(cells) + " |")
+            lines.append(f"| {material}{', in steps' if path == 'stepped' else ''} ({grids}) "
+                         f"| {name} | " + " | ".join(cells) + " |")
     return lines + [""]
 
 
 #: the default tables, in the page's order: the elastic path with the edge extrapolated to
 #: a0 → 0, the sls path and the sls loading state (every other setting the solver's default)
-DEFAULT_TABLES = (("elastic", A0, None, False, False, None, None, True, BANDS, BRACKETS),
+DEFAULT_TABLES = (("elastic", A0, None, False, False, None, None, True, BANDS, BRACKETS,
+                   "direct"),
                   ("sls", A0, None, False, False, None, DELAYED_DEFAULT, False, BANDS,
-                   BRACKETS),
+                   BRACKETS, "stepped"),
+                  ("sls", A0, None, False, False, None, DELAYED_DEFAULT, False, BANDS,
+                   BRACKETS, "direct"),
                   ("sls", A0, None, False, True, None, DELAYED_DEFAULT, False, BANDS,
-                   BRACKETS))
+                   BRACKETS, "direct"))
 
 
 def _table_order(item) -> tuple:
@@ -699,6 +775,9 @@ def main(argv=None):
     ap.add_argument("--extrapolate-a0", action="store_true",
                     help="elastic: solver.extrapolate_a0 (the edge of the tests at a0 and "
                          "a0/2 extrapolated to a0 → 0): a separate table")
+    ap.add_argument("--path", default="direct", choices=sorted(PATHS),
+                    help="the load path: the case's direct steps 1e4 → 3e4 → 1e4 Pa, or "
+                         "steps of 5 kPa both ways (stepped): a separate table")
     ap.add_argument("--report", action="store_true")
     ap.add_argument("--scan", action="store_true",
                     help="only the elastic state against a0 and σ (SCAN)")
@@ -722,7 +801,7 @@ def main(argv=None):
                 for n in args.sizes or (128, 256, 512):
                     r = run_one(n, mat, a0, args.sigma, args.coarse_start,
                                 args.loading_only, args.front_tol, args.delayed_kernel,
-                                args.extrapolate_a0)
+                                args.extrapolate_a0, args.path)
                     runs = [x for x in runs if (x["N"],) + _key(x) != (n,) + _key(r)] + [r]
                     args.out.write_text(json.dumps(runs, indent=1))
                     s = r["steps"]

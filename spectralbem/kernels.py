@@ -200,6 +200,9 @@ def front_walk_numpy(indptr, indices, data, steps, num, den) -> None:
 
 
 if numba is not None:
+    from .compile_guard import install as _guard_compilation
+
+    _guard_compilation()  # a Ctrl-C waits for a kernel's compilation to end (compile_guard)
     _jit = numba.njit(cache=True, nogil=True)
     # a sum may be reassociated (vectorised): half the time of the in-order sum, measured
     # at 512²; the result differs from numpy's pairwise sum by rounding only

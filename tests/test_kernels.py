@@ -339,3 +339,29 @@ def test_scatter(n, k, seed, index32):
         x = x0.copy()
         scatter(x, idx, values)
         assert np.array_equal(x, expect)
+
+
+@pytest.mark.skipif(kernels.backend() != "numba", reason="numba not in use")
+def test_a_ctrl_c_waits_for_the_compilation_to_end():
+    """A SIGINT received while numba's compiler lock is held (a kernel compiling or loading
+    from the cache, on the first solve of a process) raises no KeyboardInterrupt there, where
+    it left the kernel's library unfinished ("no compiled object yet", or a segmentation
+    fault: 1 of 12 interrupted runs of a fresh checkout); it is raised once the lock is
+    released, and the handlers are the ones before."""
+    import os
+    import signal
+    import time
+
+    from numba.core.compiler_lock import global_compiler_lock
+
+    before = signal.getsignal(signal.SIGINT)
+    inside = False
+    with pytest.raises(KeyboardInterrupt):
+        with global_compiler_lock:
+            with global_compiler_lock:  # nested: held until the outermost release
+                os.kill(os.getpid(), signal.SIGINT)
+                time.sleep(0.05)  # a Python handler would have run by now
+            time.sleep(0.05)
+            inside = True  # reached: nothing was raised while the lock was held
+    assert inside
+    assert signal.getsignal(signal.SIGINT) is before

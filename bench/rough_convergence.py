@@ -248,7 +248,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "[docs/theory.md, \"Outputs\"](theory.md#outputs)).", "",
              "## How to read the tables", "",
              "- The error columns are Richardson estimates from the three finest grids of a "
-             "table: nan where the differences do not shrink monotonically or shrink slower "
+             "table: — where the differences do not shrink monotonically or shrink slower "
              "than order ½ or faster than order 4 (no asymptotic range yet: "
              "`spectralbem.refinement.richardson`). They measure the grid error at the "
              "stated a0 only.",
@@ -383,7 +383,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
                      "(`--path stepped`)"),
                   "",
                   "| N | step | status | balanced | area | mean gap (µm) | μ | μ_a | G1/Δγ | "
-                  "G2/Δγ | crack tips (mm) | CPU s |",
+                  "G2/Δγ | crack tips (mm) | CPU s (path) |",
                   "|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in rs:
             m = "†" if _old_rates(r) else ""
@@ -392,9 +392,10 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
                 lines.append(
                     f"| {r['N']} | {name} | {st['status']} | {st['balanced_fraction']:.3f} | "
                     f"{st['area_fraction']:.4f} | {st['mean_gap'] * 1e6:.4f} | "
-                    f"{st['mu']:.4g} | {st['mu_adhesive']:.3g}{m} | {st['G1'] / 0.01:.3f}{m} | "
-                    f"{st['G2'] / 0.01:.3f}{m} | {_mm(st.get('crack_tip_length'))} | "
-                    f"{r['cpu'] if k == 0 else 0:.0f} |")
+                    f"{st['mu']:.4g} | {_num(st['mu_adhesive'], '.3g')}{m} | "
+                    f"{_num(st['G1'] / 0.01, '.3f')}{m} | {_num(st['G2'] / 0.01, '.3f')}{m} | "
+                    f"{_mm(st.get('crack_tip_length'))} | "
+                    f"{format(r['cpu'], '.0f') if k == 0 else ''} |")
         if any(_old_rates(r) for r in rs):
             lines += ["", "† each front cell's own band's δL_P/δA (recorded before the release "
                       "rates were ratios of sums along the front): not compared with the "
@@ -420,13 +421,10 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
                         lines.append(f"| {key} ({name}) | unverified state | | "
                                      + " | ".join("" for _ in rs) + " |")
                         continue
-                    p, finf, errs = richardson(vals)
-                    lines.append(f"| {key} ({name}) | {p:.2f} | {finf:.5g} | " + " | ".join(
-                        f"{e * 100:.2f} %" for e in errs) + " |")
+                    lines.append(f"| {key} ({name}) | " + _richardson_cells(vals, 5, 2))
             if not only and all(_verified(r, k) for r in rs[-3:] for k in (0, 2)):
-                p, finf, errs = richardson([r["hysteresis"] for r in rs])
-                lines.append(f"| hysteresis | {p:.2f} | {finf:.4g} | " + " | ".join(
-                    f"{e * 100:.1f} %" for e in errs) + " |")
+                lines.append("| hysteresis | " + _richardson_cells(
+                    [r["hysteresis"] for r in rs], 4, 1))
             lines.append("")
         lines += _pair_table(rs, tuple(r["N"] for r in rs[-2:]) if only else (256, 512))
         if not only and rs[-1]["N"] > 512:  # and the two finest grids of a longer path
@@ -434,6 +432,23 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
     lines += lengths_report(scans)
     path.write_text("\n".join(lines) + "\n")
     figure(runs, scans, path.parent / "figures" / "rough_convergence.png")
+
+
+def _num(v, fmt: str) -> str:
+    """``v`` formatted, "—" where it is not finite (a state that is not verified has no
+    release rates)."""
+    return format(v + 0.0, fmt) if np.isfinite(v) else "—"  # + 0.0: no "-0"
+
+
+def _richardson_cells(vals, digits: int, err_digits: int) -> str:
+    """The cells "p | extrapolated | errors… |" of a Richardson row; "—" where the grids
+    give no estimate (``refinement.richardson``: no asymptotic range yet)."""
+    p, finf, errs = richardson(vals)
+    if not (np.isfinite(p) and np.isfinite(finf)):
+        return (f"{p:.2f} | — | " if np.isfinite(p) else "— | — | ") + " | ".join(
+            "—" for _ in errs) + " |"
+    return f"{p:.2f} | {finf:.{digits}g} | " + " | ".join(
+        f"{e * 100:.{err_digits}f} %" for e in errs) + " |"
 
 
 def _series(runs, material, step, key, coarse=False, only=None, a0=A0, path="direct"):

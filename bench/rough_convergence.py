@@ -337,10 +337,13 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "area, μ, G1 and G2 stay within 0.8 % at every step, but μ_a moves by 5.1, 7.9 "
              "and 10.8 % at load 1.5e4, 2.5e4 and unload 2e4, and the 512² state at unload "
              "1.5e4 Pa ends `not_converged` (its front oscillates with 99.7 % balanced after "
-             "298 front iterations, substeps down to 1/8 of the step included; the next step "
-             "starts from it and converges). μ_a along the path scatters by 5-10 % "
-             "at 1-2 cells per vτ: the spread of neighbouring balanced states, not a trend "
-             "in N. CPU 9, 77 and 1609 s at 128²-512² for the nine states.",
+             "298 front iterations, at one spot narrower than a0; substeps down to 1/8 of the "
+             "step do not converge either; the next step starts from it and converges). "
+             "From 256² to 512², μ_a moves by +5, −8 and +12 % at those three steps and by "
+             "−0.5 to +3.6 % at the other five (+2.6 % on average): at 1-2 cells per vτ, "
+             "a scatter of up to ±10 % whose sign changes from step to step about a shift "
+             "of a few per cent. CPU 9, 77 and 1609 s at 128²-512² for the "
+             "nine states.",
              "- **μ_a at 3e4 Pa and on unloading** is not converged along the direct steps: "
              "5.7 % and 18.5 % from 256² to 512² (before the bracket secant 12.0 % and 9.8 % "
              "from 512² to 1024²; 2.1 % on unloading in steps, above; at 3e4 Pa the paths "

@@ -395,7 +395,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
                 lines.append(
                     f"| {r['N']} | {name} | {st['status']} | {st['balanced_fraction']:.3f} | "
                     f"{st['area_fraction']:.4f} | {st['mean_gap'] * 1e6:.4f} | "
-                    f"{st['mu']:.4g} | {_num(st['mu_adhesive'], '.3g')}{m} | "
+                    f"{_num(st['mu'], '.4g')} | {_num(st['mu_adhesive'], '.3g')}{m} | "
                     f"{_num(st['G1'] / 0.01, '.3f')}{m} | {_num(st['G2'] / 0.01, '.3f')}{m} | "
                     f"{_mm(st.get('crack_tip_length'))} | "
                     f"{format(r['cpu'], '.0f') if k == 0 else ''} |")
@@ -716,6 +716,8 @@ def _mask_columns(r: dict) -> str:
     scan recorded the mask."""
     if "mask_fraction" not in r:
         return "— | —"
+    if r["status"] != "partial":  # no balanced front: no edge beyond the mask
+        return f"{r['mask_fraction']:.4f} | —"
     beyond = (r["area_fraction"] - r["mask_fraction"]) * SIDE**2 / r["front_length"]
     return f"{r['mask_fraction']:.4f} | {beyond * 1e6:+.2f}"
 
@@ -728,7 +730,9 @@ def lengths_report(scans: list) -> list:
     lines = ["## Numerical lengths of the elastic state (loading, 1e4 Pa)", "",
              "`python bench/rough_convergence.py --scan`: a0 and the front smoothing σ "
              f"(default in an elastic scene: {_default_sigma('elastic'):g} a0; every row grows "
-             "σ to 0.23 of a large patch's radius). area: the balanced sub-cell front's; "
+             "σ to 0.23 of a large patch's radius), the edge of the a0 tests alone "
+             "(`solver.extrapolate_a0 = false`); — where the state is not verified. "
+             "area: the balanced sub-cell front's; "
              "mask: the fraction of cells in contact; edge beyond the mask: their difference "
              "per front length, the mean offset of the balanced edge from the mask's edge.", "",
              "| N | a0 (cells) | a0 (µm) | σ/a0 | σ (µm) | status | balanced | area | mask | "
@@ -738,12 +742,14 @@ def lengths_report(scans: list) -> list:
                                           else r["sigma"])):
         a0 = r['a0_cells'] * SIDE * 1e6 / r['N']
         sig = _default_sigma("elastic") if r['sigma'] is None else r['sigma']
+        ok = r["status"] == "partial"  # a verified state: the balanced front's area
         lines.append(f"| {r['N']} | {r['a0_cells']:g} | {a0:.3g} | "
                      f"{'default' if r['sigma'] is None else format(sig, 'g')} | "
                      f"{sig * a0:.3g} | "
                      f"{r['status']} | {r['balanced_fraction']:.3f} | "
-                     f"{r['area_fraction']:.4f} | {_mask_columns(r)} | "
-                     f"{r['front_length'] * 1e3:.2f} | {r['cpu']:.0f} |")
+                     f"{r['area_fraction'] if ok else '—':{'.4f' if ok else ''}} | "
+                     f"{_mask_columns(r)} | {_mm(r['front_length'] if ok else None)} | "
+                     f"{r['cpu']:.0f} |")
     one = sorted((r for r in scans if r["a0_cells"] == 1 and r["sigma"] is None),
                  key=lambda r: r["N"])
     if len(one) >= 3:

@@ -3,14 +3,14 @@
 numba's compiler is Python code running in the main thread, so a KeyboardInterrupt (or the
 command line's SIGTERM exception) can land in the middle of it: the kernel's library is
 left registered but not finished, and the next call of that kernel fails ("no compiled
-object yet for <Library ...>") or the process crashes (a segmentation fault on the first
-solve of a fresh checkout, where the kernels are compiled).  While the global compiler lock
-is held by the main thread, these signals are recorded instead; when the outermost
-compilation ends, the handlers are restored and each recorded signal is raised again, so it
-reaches the command (a load path keeps its finished steps, ``spectralbem run`` exits 130)
-with the kernel whole.  Signals whose handler is not a Python function (ignored, or the
-default action) are left alone.  Installed by :mod:`spectralbem.kernels` when numba is
-used.
+object yet for <Library ...>", on the first solve of a fresh checkout, where the kernels
+are compiled; a segmentation fault seen once at that point is likely of the same cause).
+While the global compiler lock is held by the main thread, these signals are recorded
+instead; when the outermost compilation ends, the handlers are restored and each recorded
+signal is raised again, so that it reaches the command (a load path keeps its finished
+steps, ``spectralbem run`` exits 130) with the kernel whole.  Signals whose handler is not
+a Python function (ignored, or the default action) are left alone.  Installed by
+:mod:`spectralbem.kernels` when numba is used.
 """
 
 from __future__ import annotations

@@ -345,9 +345,9 @@ def test_scatter(n, k, seed, index32):
 def test_a_ctrl_c_waits_for_the_compilation_to_end():
     """A SIGINT received while numba's compiler lock is held (a kernel compiling or loading
     from the cache, on the first solve of a process) raises no KeyboardInterrupt there, where
-    it left the kernel's library unfinished ("no compiled object yet", or a segmentation
-    fault: 1 of 12 interrupted runs of a fresh checkout); it is raised once the lock is
-    released, and the handlers are the ones before."""
+    it left the kernel's library unfinished ("no compiled object yet" in 1 of 12 interrupted
+    runs of a fresh checkout); it is raised once the lock is released, and the handlers are
+    the ones before."""
     import os
     import signal
     import time

@@ -107,7 +107,8 @@ def _pa(p: float) -> str:
 
 def _step_name(r: dict, j: int) -> str:
     """The name of a run's j-th step: "load" up to the top load, "unload" after it."""
-    top = _ref(r)[1] if len(_ref(r)) > 1 else len(r["steps"])
+    ref = _ref(r)
+    top = ref[1] if len(ref) > 1 else len(r["steps"])
     return ("load " if j <= top else "unload ") + _pa(r["steps"][j]["mean_pressure"])
 
 
@@ -575,9 +576,13 @@ def figure(runs: list, scans: list, out: Path) -> None:
     plt.close(fig)
 
 
+#: the statuses of a verified state
+VERIFIED = ("partial", "full_contact", "detached")
+
+
 def _verified(run: dict, k: int) -> bool:
     """Whether the k-th compared state (:func:`_state`) holds a verified status."""
-    return _state(run, k)["status"] in ("partial", "full_contact", "detached")
+    return _state(run, k)["status"] in VERIFIED
 
 
 #: the quantities compared between 256² and 512² and the relative tolerance each must meet
@@ -603,13 +608,12 @@ def _pair_table(rs: list, pair=(256, 512)) -> list:
         names = ("load 1e4", "load 3e4", "unload 1e4")
         rows = [(_ref(a)[k], _ref(b)[k], name)
                 for k, name in enumerate(names[:min(len(_ref(a)), len(_ref(b)))])]
-    ok = ("partial", "full_contact", "detached")
     for ja, jb, name in rows:
         cells = []
         sa, sb = a["steps"][ja], b["steps"][jb]
         for key, tol in PAIR:
             x, y = sa[key], sb[key]
-            if not (sa["status"] in ok and sb["status"] in ok):
+            if not (sa["status"] in VERIFIED and sb["status"] in VERIFIED):
                 cells.append("unverified")
             elif key in RATE_KEYS and (_old_rates(a) or _old_rates(b)):
                 cells.append("—†" if _old_rates(a) != _old_rates(b) else "† only")

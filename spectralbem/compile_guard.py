@@ -23,7 +23,8 @@ HELD = (signal.SIGINT, signal.SIGTERM)
 
 
 class _Held:
-    """A listener of numba's ``numba:compiler_lock`` events (nested: counted)."""
+    """A listener of numba's ``numba:compiler_lock`` events (nested: counted); numba's
+    ``event.Listener`` dispatches them (:func:`install`)."""
 
     def __init__(self):
         self.depth = 0
@@ -57,12 +58,6 @@ class _Held:
             signal.signal(sig, old)
         for sig in dict.fromkeys(pending):  # each signal once, in the order received
             signal.raise_signal(sig)
-
-    def notify(self, event) -> None:
-        if event.is_start:
-            self.on_start(event)
-        elif event.is_end:
-            self.on_end(event)
 
 
 _LISTENER = None

@@ -174,6 +174,7 @@ def run_one(n: int, material: str, a0: float, sigma: float | None,
                    balanced_fraction=float(st["balanced_fraction"]),
                    mean_pressure=float(st["mean_pressure"]),
                    unresolved_patches=int(st["unresolved_patches"]),
+                   unresolved_front=int(st["unresolved_front"]),
                    crack_tip_length=float(st["crack_tip_length"]),
                    message=str(st["solver_message"].values if "solver_message" in st
                                else ds.attrs["solver_message"]))
@@ -217,7 +218,8 @@ def scan_one(n: int, a0_cells: float, sigma: float | None) -> dict:
                 mask_fraction=float(ds["contact"].mean()), status=str(ds["status"].values),
                 balanced_fraction=float(ds["balanced_fraction"]),
                 front_length=float(ds["front_length"]),
-                unresolved_patches=int(ds["unresolved_patches"]))
+                unresolved_patches=int(ds["unresolved_patches"]),
+                unresolved_front=int(ds["unresolved_front"]))
 
 
 def _mm(length) -> str:

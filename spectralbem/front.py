@@ -358,6 +358,39 @@ def resolved_front(mask, outer, inner, a0: float, spacing, d_in=None):
     return touching(mask & ok[lab]) & outer, inner & ok[lab]
 
 
+def thin_features(mask: np.ndarray, a0: float, spacing) -> np.ndarray:
+    """Cells of the contact or of the gap that no disc of radius a0 lying inside it covers
+    (the complement of the morphological opening by that disc, on each side; periodic):
+    tongues of the contact and notches of the gap narrower than 2 a0, and corners tighter
+    than a0.  There the bands of width a0 of the two sides of the feature overlap, so the
+    band tests do not resolve its edges (docs/theory.md, "Features narrower than a0")."""
+    from .bands import _wrap_edt
+
+    hmin = min(spacing)
+    pad = int(np.ceil(2.0 * a0 / hmin)) + 2
+    out = np.zeros(mask.shape, bool)
+    for side in (mask, ~mask):
+        d, _, _ = _wrap_edt(side, spacing, pad, indices=False)  # to the other side
+        core = d >= a0 * (1 - 1e-9)  # the centres of the discs of radius a0 inside it
+        if not core.any():
+            out |= side
+            continue
+        dc, _, _ = _wrap_edt(~core, spacing, pad, indices=False)
+        out |= side & (dc > a0 * (1 + 1e-9))
+    return out
+
+
+def unbalanced_cells(s_out, s_in, res_out, res_in, free_in, hmin, tol) -> np.ndarray:
+    """The tested front cells (bool, N²) whose residual of :func:`balance_residual` exceeds
+    ``tol`` cells (an untested one included)."""
+    with np.errstate(invalid="ignore"):
+        r_out = np.maximum(0.0, s_out - 0.5 * hmin) / hmin
+        r_in = np.maximum(0.0, -s_in - 0.5 * hmin) / hmin
+    bad_out = res_out & ~(r_out <= tol)  # nan (untested): unbalanced
+    bad_in = res_in & free_in & ~(r_in <= tol)
+    return bad_out | bad_in
+
+
 def touching(m: np.ndarray) -> np.ndarray:
     """Cells with a 4-neighbour (periodic) in ``m``."""
     out = np.zeros_like(m)

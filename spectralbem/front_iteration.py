@@ -32,6 +32,8 @@ from .front import (
     at_front,
     balance_residual,
     resolved_front,
+    thin_features,
+    unbalanced_cells,
     unresolved_patches,
 )
 from .keys import LOAD_TOL
@@ -127,6 +129,10 @@ class FrontIteration:
         self.escaped = False  # the mask moved once off a jump of the front's load
         self.osc = Oscillation(cell.shape)
         self.wide = None  # the oscillating cells of a rescued front (moved only if unbalanced)
+        # a rescued front: its oscillating cells in features narrower than a0, held where
+        # they stand (_hold_thin), and the number of their front cells left unbalanced
+        self.thin = None
+        self.thin_unbalanced = 0
         self.snap_free = None  # band cells of the snaps this test bisects (brackets.snap_cells)
         self.opened = np.zeros(cell.shape, bool)  # cells the criterion opened in this solve
         self.last_change = np.zeros(cell.shape, bool)
@@ -297,6 +303,8 @@ class FrontIteration:
         self.s_out = self.s_in = None
         # the adjoint split of δL_P serves only the outputs: the final state's (_result)
         band_rtol = self.band_tol if self.loose else None
+        if self.thin is not None:  # cells that flip since they were held join them
+            self._hold_thin()
         half = None  # extrapolate_a0: the a0/2 tests' offsets, packed (run first: one test
         if self.half_starts is not None:  # is held at a time, not both)
             half = self._half_offsets(w, outer, inner, band_rtol)
@@ -360,6 +368,11 @@ class FrontIteration:
         if bracket.any() or deep:  # the cells across the front: the same edge
             across(s_out, s_in, outer, inner, bracket, deep, hmin)
         self.s_out, self.s_in = s_out, s_in
+        if self.thin is not None:  # held thin features' unbalanced front cells: unresolved
+            bad = self.thin & far_ends(deep, s_out, s_in, lambda: unbalanced_cells(
+                s_out, s_in, res_out, res_in, ~held, hmin, self.front_tol))
+            self.thin_unbalanced = int(np.count_nonzero(bad))
+            res_out, res_in = res_out & ~bad, res_in & ~bad
         rmax, r = far_ends(deep, s_out, s_in, lambda: balance_residual(
             s_out, s_in, res_out, res_in, ~held, hmin))
         if self.mean_pressure is not None and self.mean_pressure < 0:
@@ -398,14 +411,34 @@ class FrontIteration:
         if wide is not None and self.snap_free is not None:  # a bisection's step is made
             wide = wide & ~self.snap_free
         if self.moves_to is None:
-            return moves(self.tests, self.mask, s_out, s_in, w, self.pinned, self.hmin,
-                         wide, self.front_tol)
-        add, remove = moves(self.tests, self.mask, self.moves_to, self.moves_to, w,
-                            self.pinned, self.hmin, wide, self.front_tol)
-        beyond = np.ones(self.mask.shape, bool)
-        a_lin, r_lin = moves(self.tests, self.mask, s_out, s_in, w, self.pinned, self.hmin,
-                             beyond, self.front_tol)
-        return add | (a_lin & ~remove), remove | (r_lin & ~add)
+            add, remove = moves(self.tests, self.mask, s_out, s_in, w, self.pinned,
+                                self.hmin, wide, self.front_tol)
+        else:
+            add, remove = moves(self.tests, self.mask, self.moves_to, self.moves_to, w,
+                                self.pinned, self.hmin, wide, self.front_tol)
+            beyond = np.ones(self.mask.shape, bool)
+            a_lin, r_lin = moves(self.tests, self.mask, s_out, s_in, w, self.pinned,
+                                 self.hmin, beyond, self.front_tol)
+            add, remove = add | (a_lin & ~remove), remove | (r_lin & ~add)
+        if self.thin is not None:  # held where they stand
+            add &= ~self.thin
+            remove &= ~self.thin
+        return add, remove
+
+    def _hold_thin(self) -> None:
+        """A rescued front (``wide`` set) that oscillates still: its cells that have
+        flipped ``OSCILLATION_FLIPS`` times (before the rescue or since) and lie in a feature
+        narrower than a0 (front.thin_features: a tongue of the contact or a notch of the gap
+        whose two sides' bands overlap, so that closing them fills it and the filled mask's
+        opening band empties it again) stand from now on (:meth:`_moves`); their front
+        cells that stay unbalanced are unresolved, as a patch thinner than the band is
+        (:meth:`_balance`; docs/theory.md, "Features narrower than a0")."""
+        cell = self.op.cell
+        flipped = self.wide | (self.osc.flips >= OSCILLATION_FLIPS)
+        thin = thin_features(self.mask, self.a0, (cell.hx, cell.hy)) & flipped
+        if self.thin is not None:  # once held, a cell stays held
+            thin |= self.thin
+        self.thin = thin if thin.any() else None
 
     def _exact_step(self, w, outer, inner) -> str:
         """Test the front, then: converged, a load correction on a balanced mask, the end
@@ -455,6 +488,15 @@ class FrontIteration:
             self.osc = Oscillation(self.op.cell.shape)
             add, remove = self._moves(w, self.s_out, self.s_in)
             reason = self.osc.step(mask, add | remove) if (add.any() or remove.any()) else ""
+        elif reason and self.wide is not None and self.thin is None \
+                and self.it < self.max_outer:
+            # the rescued front oscillates still: its oscillating cells in features narrower
+            # than a0 stand from now on (once; _hold_thin), the others move as before
+            self._hold_thin()
+            if self.thin is not None:
+                self.osc = Oscillation(self.op.cell.shape)
+                add, remove = self._moves(w, self.s_out, self.s_in)
+                reason = self.osc.step(mask, add | remove) if (add.any() or remove.any()) else ""
         if reason or self.it == self.max_outer:
             reason = reason or f"not converged in {self.max_outer} outer iterations"
             self.message = (f"{reason}; {100 * frac:.1f} % of the resolved front balanced "
@@ -504,6 +546,10 @@ class FrontIteration:
                             f"verified; "
                             f"every other resolved front cell balanced within {front_tol:g} "
                             f"cells (largest residual {rmax:.3f})")
+        if self.thin_unbalanced:
+            self.message += (f"; {self.thin_unbalanced} front cells of oscillating features "
+                             f"narrower than a0 (tongues of the contact, notches of the gap) "
+                             f"unbalanced, held where they stood (unresolved)")
         if self.criterion == "predictor":  # one exact evaluation, no load correction
             carried = self._front_load()
             self.message = (f"predictor criterion; exact tests of the final mask: "
@@ -608,5 +654,6 @@ class FrontIteration:
             message=message, method="front-layer energy balance, sub-cell front",
             **friction(op, h, p, u), tests=self.tests, offset_out=self.s_out,
             offset_in=self.s_in, solves=self.solves, history=self.history, a0=self.a0,
-            unresolved_patches=nun, edge_shift=self.shift, resolved=self.res_out,
+            unresolved_patches=nun, unresolved_front=self.thin_unbalanced,
+            edge_shift=self.shift, resolved=self.res_out,
             balanced_fraction=self.frac, residual=self.rmax, crack_tips=tips)

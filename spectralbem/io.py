@@ -51,6 +51,10 @@ SCALARS = {
     "unresolved_patches": ("1", "unresolved patches",
                            "contact patches smaller than a disc of radius a0 (the band "
                            "tests cannot resolve them)"),
+    "unresolved_front": ("1", "unresolved front cells",
+                         "front cells of features narrower than a0 (tongues of the contact, "
+                         "notches of the gap) that oscillated and stay unbalanced: held, "
+                         "left out of the status and the front averages"),
     "small_patch_diameter": ("m", "small-patch diameter",
                              "equivalent diameter of the resolved contact patches below "
                              "which a tenth of their area lies (a0 should be under a tenth "
@@ -101,7 +105,7 @@ STATUS_MEANING = {
 
 
 #: result variables that count things: stored as integers where every value is finite
-COUNTS = ("iterations", "solves", "unresolved_patches", "substeps")
+COUNTS = ("iterations", "solves", "unresolved_patches", "unresolved_front", "substeps")
 
 
 def cf_attributes(ds: xr.Dataset, history: str | None = None) -> xr.Dataset:

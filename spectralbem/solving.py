@@ -298,6 +298,7 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
         msg = r.message
         sc.update(iterations=r.iterations, solves=r.solves,
                   unresolved_patches=r.unresolved_patches,
+                  unresolved_front=r.unresolved_front,
                   balanced_fraction=r.balanced_fraction, front_residual=r.residual)
         area = None
         pm = r.mean_pressure

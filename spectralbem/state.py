@@ -108,6 +108,9 @@ class AdhesiveState(ContactState):
     history: list = field(default_factory=list)
     a0: float = 0.0  # the advance width used: the one asked for (m)
     unresolved_patches: int = 0  # contact patches too thin for a band of width a0
+    #: front cells of oscillating features narrower than a0 left unbalanced, held
+    #: (FrontIteration._hold_thin): unresolved, not in the status nor the front averages
+    unresolved_front: int = 0
     # a0/2 in elastic scenes (the sharp-crack edge's nominal shift from the seed's l*:
     # front.sharp_crack_offset), 0 otherwise (m)
     edge_shift: float = 0.0

@@ -611,3 +611,46 @@ def test_a_moved_mask_does_not_carry_the_load_correction_of_the_last(load):
     # the load tolerance is relative to the mean |p| (front_iteration._exact_step)
     assert abs(s.mean_pressure - load) <= 10 * LOAD_TOL * float(np.abs(s.pressure).mean())
     assert s.contact.sum() > 100
+
+
+@settings(max_examples=25, deadline=None)
+@given(width=st.integers(1, 14), a0_cells=st.sampled_from([1.0, 2.0, 2.5, 4.0]),
+       axis=st.sampled_from([0, 1]))
+def test_thin_features_are_the_strips_narrower_than_two_a0(width, a0_cells, axis):
+    """A straight contact strip of ``width`` cells in a gap of 64 − width cells: a disc of
+    radius a0 fits inside the strip (its centre a0 or more from every gap cell centre, the
+    rule of front.patch_labels) exactly when its deepest cells, (width + 1) // 2 cells from
+    the gap, lie a0 deep.  Thin strips are thin everywhere, wide ones nowhere (the disc at
+    the deepest cell covers the edge cells); the same for the gap.  Independent of the
+    orientation."""
+    from spectralbem.front import thin_features
+
+    n, h = 64, 1.0
+    mask = np.zeros((n, n), bool)
+    mask[10:10 + width] = True
+    if axis:
+        mask = mask.T.copy()
+    thin = thin_features(mask, a0_cells * h, (h, h))
+    strip_thin = (width + 1) // 2 < a0_cells
+    assert thin[mask].all() == strip_thin and thin[mask].any() == strip_thin
+    gap_thin = (n - width + 1) // 2 < a0_cells
+    assert thin[~mask].all() == gap_thin and thin[~mask].any() == gap_thin
+
+
+def test_thin_features_of_a_notch_in_a_disc():
+    """A disc of radius 12 cells (a0 = 2 cells) with a notch two cells wide cut to its
+    centre: the notch's cells and the slivers of contact beside its mouth are thin; the
+    disc's bulk and the open gap are not; without the notch no cell is thin except the
+    digital disc's tightest rim cells (none at this radius)."""
+    from spectralbem.front import thin_features
+
+    n = 64
+    i, j = np.mgrid[:n, :n]
+    disc = np.hypot(i - 32, j - 32) <= 12
+    assert not thin_features(disc, 2.0, (1.0, 1.0)).any()
+    notched = disc.copy()
+    notched[31:33, 32:46] = False  # two cells wide, from the centre out through the rim
+    thin = thin_features(notched, 2.0, (1.0, 1.0))
+    assert thin[31:33, 32:42].all()  # the notch inside the disc (its mouth aside)
+    assert not thin[np.hypot(i - 32, j - 20) <= 6].any()  # the far half of the disc
+    assert not thin[np.hypot(i - 32, j - 32) > 16].any()  # the open gap

@@ -239,6 +239,15 @@ def test_extrapolate_a0_default_where_a0_is_numerical():
     assert json.loads(ds.attrs["scene"])["solver"]["extrapolate_a0"] is False
 
 
+def _fake_path_scene(loads) -> dict:
+    """A small adhesive grid scene along ``loads`` (Pa), for the stand-in step solvers."""
+    return {"grid": {"Lx": 1e-3, "Ly": 1e-3, "Nx": 16, "Ny": 16},
+            "surface": {"kind": "paraboloid", "radius": 1e-3},
+            "material": {"kind": "elastic", "E": 1e6},
+            "adhesion": {"dgamma": 0.05, "a0": 1e-4},
+            "control": {"mean_pressure": list(loads)}}
+
+
 def test_path_step_that_fails_is_retried_in_sub_steps(monkeypatch):
     """A path step of an adhesive grid scene that ends not_converged from a partial state is
     solved again from that state, each failing step halved (load_path.SUBSTEP_HALVINGS = 3
@@ -261,11 +270,7 @@ def test_path_step_that_fails_is_retried_in_sub_steps(monkeypatch):
         return ds, p
 
     monkeypatch.setattr(solving, "_solve_one", fake)
-    raw = {"grid": {"Lx": 1e-3, "Ly": 1e-3, "Nx": 16, "Ny": 16},
-           "surface": {"kind": "paraboloid", "radius": 1e-3},
-           "material": {"kind": "elastic", "E": 1e6},
-           "adhesion": {"dgamma": 0.05, "a0": 1e-4},
-           "control": {"mean_pressure": [1e4, 3e4, 1e4]}}
+    raw = _fake_path_scene([1e4, 3e4, 1e4])
     limit = 6e3  # halves of 1e4 fail, quarters of 5e3 converge
     ds = sb.solve(load_scene(raw))
     assert list(ds.status.values) == ["partial"] * 3
@@ -284,6 +289,54 @@ def test_path_step_that_fails_is_retried_in_sub_steps(monkeypatch):
     assert "1/8 of it did not converge either" in str(ds.solver_message.values[1])
     assert calls == [1e4, 3e4, 2e4, 1.5e4, 1.25e4, 1e4]  # no retry after a failed step
 
+
+
+def test_path_step_that_holds_front_cells_is_retried_in_sub_steps(monkeypatch):
+    """A partial path step whose front holds cells unbalanced (``unresolved_front`` > 0:
+    oscillating features narrower than a0, docs/theory.md) is solved again in sub-steps;
+    the sub-steps' state is taken where they end partial without held cells (or with held
+    cells over the smallest step), the direct state, marked, where they fail.  Stand-in
+    solver: a step of more than ``limit`` holds 5 cells; with ``only_direct`` a step that
+    does not end at 3e4 Pa does not converge."""
+    import xarray as xr
+
+    from spectralbem import solving
+
+    calls = []
+
+    def fake(scene, state, progress=None):
+        p = scene.mean_pressure
+        calls.append(p)
+        jump = 0.0 if state is None else abs(p - state)
+        ok = state is None or not only_direct or p == 3e4
+        ds = xr.Dataset({"status": ((), "partial" if ok else "not_converged"),
+                         "mean_pressure": ((), p),
+                         "unresolved_front": ((), 5 if jump > limit else 0)})
+        ds.attrs["solver_message"] = "fake"
+        return ds, p
+
+    monkeypatch.setattr(solving, "_solve_one", fake)
+    raw = _fake_path_scene([1e4, 3e4])
+    limit, only_direct = 1.5e4, False  # the direct step holds cells, its halves do not
+    ds = sb.solve(load_scene(raw))
+    assert list(ds.status.values) == ["partial", "partial"]
+    assert list(ds.substeps.values) == [1, 2]
+    assert list(ds.unresolved_front.values) == [0, 0]
+    assert calls == [1e4, 3e4, 2e4, 3e4]
+    assert "in 2 steps of the control" in str(ds.solver_message.values[1])
+    calls.clear()
+    limit = 1e3  # every step holds cells: the eighths' state is taken
+    ds = sb.solve(load_scene(raw))
+    assert list(ds.substeps.values) == [1, 8]
+    assert list(ds.unresolved_front.values) == [0, 5]
+    calls.clear()
+    only_direct = True  # the sub-steps fail: the direct state is kept, marked
+    ds = sb.solve(load_scene(raw))
+    assert list(ds.status.values) == ["partial", "partial"]
+    assert list(ds.substeps.values) == [1, 1]
+    assert list(ds.unresolved_front.values) == [0, 5]
+    assert "did not end partial without held front cells" in str(ds.solver_message.values[1])
+    assert calls == [1e4, 3e4, 2e4, 1.5e4, 1.25e4]
 
 
 def test_path_step_that_detaches_is_retried_in_sub_steps(monkeypatch):
@@ -308,11 +361,7 @@ def test_path_step_that_detaches_is_retried_in_sub_steps(monkeypatch):
         return ds, (p if ok else None)
 
     monkeypatch.setattr(solving, "_solve_one", fake)
-    raw = {"grid": {"Lx": 1e-3, "Ly": 1e-3, "Nx": 16, "Ny": 16},
-           "surface": {"kind": "paraboloid", "radius": 1e-3},
-           "material": {"kind": "elastic", "E": 1e6},
-           "adhesion": {"dgamma": 0.05, "a0": 1e-4},
-           "control": {"mean_pressure": [-150.0, -230.0]}}
+    raw = _fake_path_scene([-150.0, -230.0])
     ds = sb.solve(load_scene(raw))
     assert list(ds.status.values) == ["partial", "partial"]  # halves of 80 Pa: 40 Pa detach
     assert list(ds.substeps.values) == [1, 4]
@@ -366,11 +415,11 @@ REDUCED = {
     "jkr_sphere": {"grid.Nx": 128, "grid.Ny": 128, "adhesion.a0": 1.5625e-5,
                    "control.mean_pressure": [1e3, 0.0]},
     # the rough paths at 128² (the cases' a0 of 7.8 µm, one cell; the cut-off 8 cells).  At
-    # a0 two cells (15.6 µm) the state at 3e4 Pa ends not_converged: a notch of the gap no
-    # wider than 2 a0 fills and empties in turn (docs/theory.md, "Known limits"; it was
-    # reported partial while the solver clipped deep snaps into their flipping cell); at 64²
-    # (a0 two cells of 15.6 µm) the step to 3e4 Pa ends not_converged, two tensile pins held
-    # where no free edge of the front carries tension (moves.overloaded_pins)
+    # a0 two cells (15.6 µm) the state at 3e4 Pa holds a notch of the gap no wider than 2 a0
+    # that fills and empties in turn (docs/theory.md, "Features narrower than a0";
+    # tests/test_adhesive2d.py runs it); at 64² (a0 two cells of 15.6 µm) the step to 3e4
+    # Pa ends not_converged, two tensile pins held where no free edge of the front carries
+    # tension (moves.overloaded_pins)
     "rough_load_unload": {"grid.Nx": 128, "grid.Ny": 128,
                           "surface.cutoff_wavelength": 6.25e-5,
                           "control.mean_pressure": [1e4, 3e4, 1e4]},

@@ -13,11 +13,11 @@ from __future__ import annotations
 #: quasi-static path follows (the JKR sphere at 256² from −150 to −230 Pa, above its pull-off
 #: of −235.6 Pa, detached in one step; in two it stays in contact, tests/test_scenes.py)
 SUBSTEP_HALVINGS = 3
-#: A partial step whose front holds cells of oscillating features narrower than a0
-#: unbalanced (``unresolved_front``, docs/theory.md, "Features narrower than a0") is solved
-#: again in sub-steps too, and such a state is accepted without them only over the smallest
-#: step or where the sub-steps fail: a quasi-static path may balance that front (the rough
-#: SLS case at 512² unloaded from 3e4 to 2.5e4 Pa: 35 cells held in one step, none in two)
+# A partial step whose front holds cells of oscillating features narrower than a0
+# unbalanced (``unresolved_front``, docs/theory.md, "Features narrower than a0") is solved
+# again in sub-steps too, and such a state is accepted without them only over the smallest
+# step or where the sub-steps fail: a quasi-static path may balance that front (the rough
+# SLS case at 512² unloaded from 3e4 to 2.5e4 Pa: 35 cells held in one step, none in two)
 
 
 def step_status(ds) -> str:

@@ -24,9 +24,15 @@ ADJOINT_RESTART_GUARD = 200
 
 
 def complete_adjoint(tests, op: SpectralOperator, mask: np.ndarray, p: np.ndarray,
-                     rtol: float = 1e-10):
+                     rtol: float = 1e-10, starts=None):
     """Fill the adjoint split of δL_P (Eq. 10) over the band cells of ``tests`` (made on
     ``mask`` with its solution ``p``) in place and return ``tests`` (a no-op once filled).
+    ``starts``: the :class:`~spectralbem.band_starts.BandStarts` of the solve that made
+    ``tests``, whose corrections of the opening bands are those tests' own: each opening
+    band's state A ∖ R starts from p plus its correction (float32: a few products to the
+    tolerance instead of a solve from p).  (The transposed solves take as many products
+    from A's adjoint solution as from zero: 33 against 34 on the rough SLS state at 256²,
+    so they start from zero.)
 
     Closing bands: δL_P,j = a p_j(A ∪ D) ψ_j with ψ the adjoint weights of A
     (:func:`adjoint_weights`, one transposed solve); the rate δL_P/δA and G_close =
@@ -69,12 +75,13 @@ def complete_adjoint(tests, op: SpectralOperator, mask: np.ndarray, p: np.ndarra
         own = tests.bands.inner_owner.ravel()
         for owners, bands_, area in pend["open"]:
             dLP = np.zeros(owners.size)
-            for cells, wt in bands_:
+            for cells, wt, key in bands_:
                 rest = mask.copy()
                 rest.ravel()[cells] = False
                 if not rest.any():  # opening detaches: no stress, no work of any kind
                     continue
-                res = _short_solve(op, rest, lambda: pend["w"], p, rtol)
+                res = _short_solve(op, rest, lambda: pend["w"], p, rtol,
+                                   x0_add=None if starts is None else starts.start(key))
                 tests.solves += 1
                 if not res.converged:  # no split: the closing band's rate alone (nan here)
                     dLP[:] = np.nan
@@ -128,13 +135,14 @@ def _owner_bincount(values, owner, owners):
     return np.bincount(slot[keep], weights=values[keep], minlength=owners.size)
 
 
-def _short_solve(op, mask, make_rhs, x0, rtol, transpose=False):
-    """The masked solve of the right-hand side ``make_rhs()`` restarted every
-    :data:`ADJOINT_RESTART` products, within :data:`ADJOINT_RESTART_GUARD` of them; the
-    unrestarted solve goes on from its answer if it stalls (the right-hand side, a
-    temporary freed once packed, is formed again for it)."""
-    res = solve_masked(op, mask, make_rhs(), x0=x0, rtol=rtol, transpose=transpose,
-                       restart=ADJOINT_RESTART, maxiter=ADJOINT_RESTART_GUARD)
+def _short_solve(op, mask, make_rhs, x0, rtol, transpose=False, x0_add=None):
+    """The masked solve of the right-hand side ``make_rhs()`` from ``x0`` (plus ``x0_add``:
+    masked.solve_masked's) restarted every :data:`ADJOINT_RESTART` products, within
+    :data:`ADJOINT_RESTART_GUARD` of them; the unrestarted solve goes on from its answer if
+    it stalls (the right-hand side, a temporary freed once packed, is formed again for it)."""
+    res = solve_masked(op, mask, make_rhs(), x0=x0, x0_add=x0_add, rtol=rtol,
+                       transpose=transpose, restart=ADJOINT_RESTART,
+                       maxiter=ADJOINT_RESTART_GUARD)
     if res.converged:
         return res
     x0 = res.field

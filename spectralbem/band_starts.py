@@ -58,6 +58,12 @@ class BandStarts:
                              (field.ravel()[cells] - p.ravel()[cells]).astype(np.float32))
         self._drop()
 
+    def keep_only(self, wanted) -> None:
+        """Drop the corrections of the keys for which ``wanted(key)`` is false."""
+        for key in [k for k in self._values if not wanted(k)]:
+            del self._values[key]
+        self._drop()
+
     def _drop(self) -> None:
         used = {g for g, _ in self._values.values()} | {self._gen}
         for g in [g for g in self._cells if g not in used]:

@@ -287,7 +287,8 @@ def _side_tests(test, plan, band, own, dist, io, level, tol, dg, area, shape, ke
     with the cells' weights.
     ``shape``: the grid's; ``key``: (colour, side) of the tests' warm starts.  Returns
     (owners, the sums dL, dg, area per owner, the interpolated LayerWork, runs [(reach,
-    cells, weights, the test's third output: a·p on the closed band, the opened band's gaps)])."""
+    cells, weights, the test's third output: a·p on the closed band, the opened band's gaps,
+    the band's warm-start key)])."""
     owners = np.unique(own[band])
     acc = {k: np.zeros(owners.size) for k in ("dL", "dg", "area")}
     parts, runs = [], []
@@ -299,7 +300,7 @@ def _side_tests(test, plan, band, own, dist, io, level, tol, dg, area, shape, ke
         cells, dL, extra, layer = test(sel.reshape(shape), key + (k,))
         wt = wo[np.searchsorted(owners, own[cells])]
         parts.append(layer)
-        runs.append((reach, cells, wt, extra))
+        runs.append((reach, cells, wt, extra, key + (k,)))
         _owner_sums({"dL": dL, "dg": _dg_area(dg, area, cells),
                      "area": np.full(cells.size, area)}, own[cells], owners, wt, acc)
     return owners, acc, _weighted(parts, float(acc["area"].sum())), runs
@@ -467,14 +468,14 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
                 level, tol, dg, area, mask.shape, (ci, "close"))
             has = acc["dg"] > 0
             balances.append((owners, acc))
-            pending["close"].append((owners[has], [(c, wt, apD) for _, c, wt, apD in runs],
+            pending["close"].append((owners[has], [(c, wt, apD) for _, c, wt, apD, _ in runs],
                                      acc["dg"][has], acc["area"][has]))
         band = (own_i >= 0) & col_flat[np.maximum(own_i, 0)]
         if band.any():
             owners, acc, opening[ci], runs = _side_tests(
                 tester.open, [(r, wi) for r, _, wi in plan], band, own_i, d_in, io_in,
                 level, tol, dg, area, mask.shape, (ci, "open"))
-            for _, cells, _, gr in runs:
+            for _, cells, _, gr, _ in runs:
                 slot = np.searchsorted(ib, cells)
                 # levels: the narrowest band's gaps kept where wider ones are tested too;
                 # whole layers: the widest band's gaps last
@@ -482,7 +483,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
                 g_band[slot[fresh]] = gr[fresh]
             has = acc["dg"] > 0
             balances.append((owners, acc))
-            pending["open"].append((owners[has], [(c, wt) for _, c, wt, _ in runs],
+            pending["open"].append((owners[has], [(c, wt, key) for _, c, wt, _, key in runs],
                                     acc["area"][has]))
     del plan, level
     # one array per quantity: the outer (closing) and inner (opening) front cells are
@@ -505,7 +506,7 @@ def front_tests(op: SpectralOperator, w: np.ndarray, mask: np.ndarray, p: np.nda
     out = FrontTest(F, g_band, closing, opening, cols, b, tester.solves, bool(tester.ok),
                     tester.msg, width, pending=pending,
                     smoothing=(sigma, smoothing_per_radius))
-    return complete_adjoint(out, op, mask, p, rtol) if adjoint else out
+    return complete_adjoint(out, op, mask, p, rtol, starts) if adjoint else out
 
 
 def _mirror(field_: np.ndarray, valid: np.ndarray, cells: np.ndarray, owners: np.ndarray,

@@ -613,8 +613,12 @@ class FrontIteration:
     def _result(self, progress) -> AdhesiveState:
         op, cell, mask, p = self.op, self.op.cell, self.mask, self.p
         status, message, converged = self.status, self.message, self.converged
-        # freed before the final adjoint solves (u is formed again for the outputs below)
-        self.moves_to = self.band_starts = self.u = None
+        # freed before the final adjoint solves (u is formed again for the outputs below);
+        # the band starts' opening corrections are the final tests' own, the starts of the
+        # adjoint's opening states (the closing ones are dropped)
+        starts, self.moves_to, self.band_starts, self.u = self.band_starts, None, None, None
+        if starts is not None:
+            starts.keep_only(lambda key: key[1] == "open")
         if self.s_out is None:  # the last tests failed: no balanced edge
             self.s_out = self.s_in = np.full(cell.shape, np.nan)
         # the mean pressure carried by the sub-cell front (the predictor's, verified or not,
@@ -624,8 +628,9 @@ class FrontIteration:
         tips = None
         if status == "partial" and self.tests is not None and self.tests.pending is not None:
             solves = self.tests.solves  # the release rates of the final state's tests
-            complete_adjoint(self.tests, op, mask, p, self.test_kw["rtol"])
+            complete_adjoint(self.tests, op, mask, p, self.test_kw["rtol"], starts)
             self.solves += self.tests.solves - solves
+        del starts
         if status == "partial" and self.held is not None and self.res_out is not None:
             tips = crack_tips(self.res_out, self.held, self.outer)
             bad = release_out_of_bounds(op, self.tests, tips, self.dgamma, self.s_out,

@@ -654,3 +654,48 @@ def test_thin_features_of_a_notch_in_a_disc():
     assert thin[31:33, 32:42].all()  # the notch inside the disc (its mouth aside)
     assert not thin[np.hypot(i - 32, j - 20) <= 6].any()  # the far half of the disc
     assert not thin[np.hypot(i - 32, j - 32) > 16].any()  # the open gap
+
+
+def test_the_adjoint_opening_states_start_from_the_tests_band_corrections(monkeypatch):
+    """complete_adjoint with the front tests' BandStarts: each opening band's state A ∖ R
+    starts from p plus that band's correction from the tests (the same solve's answer,
+    kept in float32), so it needs a few products instead of a solve from p; the split is
+    the same to the solves' tolerance (1e-10: δL_P per band cell and the rates within
+    1e-8 of the split without the starts)."""
+    import copy
+
+    from spectralbem import adjoint, masked
+    from spectralbem.band_starts import BandStarts
+    from spectralbem.criterion import front_tests
+    from spectralbem.materials import StandardLinearSolid
+    from spectralbem.spectral import Cell, SpectralOperator
+    from spectralbem.surfaces import self_affine
+
+    cell = Cell(1.0, 1.0, 64, 64)
+    h = self_affine(cell, 0.8, rolloff=2 * np.pi * 4, cutoff=2 * np.pi * 16, rms_height=1.0,
+                    seed=3)
+    mask = h > np.quantile(h, 0.75)
+    op = SpectralOperator(cell, StandardLinearSolid(1.0, 10.0, 1.0, 0.5), velocity=(0.05, 0.0))
+    w = h - h.max() + 0.5
+    p = masked.solve_masked(op, mask, w, rtol=1e-12).field
+    starts = BandStarts()
+    tests = front_tests(op, w, mask, p, 0.05, 2.5 / 64, adjoint=False, starts=starts)
+    assert tests.converged and tests.pending["open"]
+    products = {True: 0, False: 0}
+    real = adjoint.solve_masked
+
+    def counted(*a, **k):
+        res = real(*a, **k)
+        if not k.get("transpose"):
+            products[k.get("x0_add") is not None] += res.iterations
+        return res
+
+    monkeypatch.setattr(adjoint, "solve_masked", counted)
+    plain = adjoint.complete_adjoint(copy.deepcopy(tests), op, mask, p, 1e-10)
+    started = adjoint.complete_adjoint(tests, op, mask, p, 1e-10, starts)
+    assert products[True] > 0 and products[True] <= 0.5 * products[False], products
+    for a, b in zip(plain.dLP_band, started.dLP_band, strict=True):
+        assert np.abs(a - b).max() <= 1e-8 * np.abs(a).max()
+    ok = np.isfinite(plain.rate)
+    assert np.array_equal(ok, np.isfinite(started.rate)) and ok.any()
+    assert np.abs(plain.rate[ok] - started.rate[ok]).max() <= 1e-8 * np.abs(plain.rate[ok]).max()

@@ -9,7 +9,6 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage
 
-from .adjoint import complete_adjoint
 from .band_starts import BandStarts
 from .brackets import (
     across,
@@ -27,32 +26,27 @@ from .criterion import (
     loose_band_rtol,
     predictor_tests,
 )
-from .friction import friction
 from .front import (
     at_front,
     balance_residual,
     resolved_front,
     thin_features,
     unbalanced_cells,
-    unresolved_patches,
 )
+from .front_outcome import FrontOutcome
 from .keys import LOAD_TOL
 from .masked import TRUE_RESIDUAL_MARGIN, solve_masked, solve_packed
 from .moves import (
     OSCILLATION_FLIPS,
-    PIN_RELEASES,
-    RELEASE_SLACK,
     LoadCorrection,
     Oscillation,
     blocked,
-    crack_tips,
     held_offsets,
     moves,
     offsets,
     overloaded_pins,
     predictor_moves,
     release_bound,
-    release_out_of_bounds,
     release_pins,
     stale_pins,
     unverified_pins,
@@ -104,7 +98,7 @@ def _richardson(s, front, s_half):
 _BREAK, _NEXT = "break", "next"
 
 
-class FrontIteration:
+class FrontIteration(FrontOutcome):
     """The outer iteration of :func:`~spectralbem.adhesive.solve_adhesive` (that module's
     docstring): its state between iterations and one method per part of an iteration."""
 
@@ -542,35 +536,6 @@ class FrontIteration:
         near = ndimage.maximum_filter(change.view(np.uint8), size=3, mode="wrap") > 0
         return self._front_load(~near) - float(self.p.mean())
 
-    def _converged(self, load_ok: bool = True) -> None:
-        front_tol, rmax = self.front_tol, self.rmax
-        self.converged = status_ok = rmax <= front_tol and not self.stale and load_ok
-        self.status = "partial" if status_ok else "not_converged"
-        self.message = (f"converged: every resolved front cell balanced within "
-                        f"{front_tol:g} cells (largest residual {rmax:.3f})")
-        if self.stale and rmax <= front_tol:
-            self.message = (f"{self.stale} pinned cells would open (opening leaves a gap and "
-                            f"the balance opens them; their pin was released {PIN_RELEASES} "
-                            f"time(s) already) with more than √((1 + {RELEASE_SLACK:g}) β) "
-                            f"times the tension of every free edge (a release rate beyond "
-                            f"the glassy bound): the state is held by its pins, not "
-                            f"verified; "
-                            f"every other resolved front cell balanced within {front_tol:g} "
-                            f"cells (largest residual {rmax:.3f})")
-        if self.thin_unbalanced:
-            self.message += (f"; {self.thin_unbalanced} front cells of oscillating features "
-                             f"narrower than a0 (tongues of the contact, notches of the gap) "
-                             f"unbalanced, held where they stood (unresolved)")
-        if self.criterion == "predictor":  # one exact evaluation, no load correction
-            carried = self._front_load()
-            self.message = (f"predictor criterion; exact tests of the final mask: "
-                            f"{100 * self.frac:.1f} % of the front balanced within "
-                            f"{front_tol:g} cells (largest residual {rmax:.3f}); the front "
-                            f"carries {carried:.6g} Pa of mean pressure"
-                            + ("" if load_ok else
-                               f", not the prescribed {self.mean_pressure:.6g} Pa (the "
-                               f"predictor corrects no load: not verified)"))
-
     def _front_load(self, standing=None) -> float:
         """The mean pressure the balanced sub-cell front carries (the mask's where the last
         tests left no resolved front); with ``standing`` (bool, N²), of the resolved front
@@ -617,60 +582,3 @@ class FrontIteration:
         self.osc.seen.clear()
         self.tests = self.res_out = None  # freed before the next state's solves
         return _NEXT
-
-    # -- the result --------------------------------------------------------------------------
-    def _result(self, progress) -> AdhesiveState:
-        op, cell, mask, p = self.op, self.op.cell, self.mask, self.p
-        status, message, converged = self.status, self.message, self.converged
-        # freed before the final adjoint solves (u is formed again for the outputs below);
-        # the band starts' opening corrections are the final tests' own, the starts of the
-        # adjoint's opening states (the closing ones are dropped)
-        starts, self.moves_to, self.band_starts, self.u = self.band_starts, None, None, None
-        if starts is not None:
-            starts.keep_only(lambda key: key[1] == "open")
-        if self.s_out is None:  # the last tests failed: no balanced edge
-            self.s_out = self.s_in = np.full(cell.shape, np.nan)
-        # the mean pressure carried by the sub-cell front (the predictor's, verified or not,
-        # is the one its message names)
-        pm = (self._front_load() if status == "partial" or self.criterion == "predictor"
-              else float(p.mean()))
-        tips = None
-        if status == "partial" and self.tests is not None and self.tests.pending is not None:
-            solves = self.tests.solves  # the release rates of the final state's tests
-            complete_adjoint(self.tests, op, mask, p, self.test_kw["rtol"], starts)
-            self.solves += self.tests.solves - solves
-        del starts
-        if status == "partial" and self.held is not None and self.res_out is not None:
-            tips = crack_tips(self.res_out, self.held, self.outer)
-            bad = release_out_of_bounds(op, self.tests, tips, self.dgamma, self.s_out,
-                                        self.a0)
-            if not tips.any() and self.res_out.any() and float(p.mean()) < 0:
-                bad = ("no equilibrium: the contact carries a tensile mean pressure, but "
-                       "every edge is held by contact (no crack tip: an adhesiveless contact "
-                       "carries no tension)")
-            if bad:
-                status, converged = "not_converged", False
-                message = (f"{bad}, although every resolved front cell lies within "
-                           f"{self.front_tol:g} cells of its balanced edge")
-        if status == "not_converged" and self.mean_pressure is not None \
-                and self.mean_pressure < 0:
-            message += ("; a tensile load beyond the pull-off has no equilibrium (penetration "
-                        "control follows the branch through it)")
-        if progress is not None:  # the final state's line
-            progress(self.it, f"{status}, {self._line()}")
-        nun = unresolved_patches(mask, self.a0, (cell.hx, cell.hy))
-        if nun:
-            message += f"; {nun} contact patches smaller than a disc of radius a0 (unresolved)"
-        h, delta = self.h, self.delta
-        u = op.apply(p)
-        gap = u - (h - self.hmax + delta)
-        gap[mask] = 0.0
-        return AdhesiveState(
-            pressure=p, displacement=u, gap=gap, contact=mask, penetration=float(delta),
-            mean_pressure=pm, status=status, iterations=self.it, converged=converged,
-            message=message, method="front-layer energy balance, sub-cell front",
-            **friction(op, h, p, u), tests=self.tests, offset_out=self.s_out,
-            offset_in=self.s_in, solves=self.solves, history=self.history, a0=self.a0,
-            unresolved_patches=nun, unresolved_front=self.thin_unbalanced,
-            edge_shift=self.shift, resolved=self.res_out,
-            balanced_fraction=self.frac, residual=self.rmax, crack_tips=tips)

@@ -9,6 +9,10 @@ its kernel, so one operator application is exactly one forward and one inverse t
 Configuration: ``set_threads(n)`` (default 1), environment variable ``SPECTRALBEM_FFT=numpy``
 to force the fallback, ``backend()`` tells which is in use.
 
+Cost: every plan counts the transforms it runs; :func:`transform_counts` sums them over the
+plans of this process (a solve's count is the difference around it: the machine-independent
+measure of its cost that the solvers report, one operator application being one pair).
+
 Reproducibility: a run is bit-identical to another with the same plan.  FFTW_MEASURE (the
 default, fastest) picks its algorithm by timing, so two processes may, rarely, get plans that
 differ in the last bit; ``SPECTRALBEM_FFTW_PLANNER=estimate`` makes the plan choice
@@ -139,6 +143,7 @@ class RealFFT2:
         self.hshape = (self.shape[0], self.shape[1] // 2 + 1)
         self.threads = threads
         self.use_fftw = use_fftw
+        self.forward_count = self.inverse_count = 0  # transforms run (transform_counts)
         if use_fftw:
             allow_openmp_threads(threads)
             self._rin = pyfftw.zeros_aligned(self.shape, dtype="float64")
@@ -158,6 +163,7 @@ class RealFFT2:
 
     # -- transforms -------------------------------------------------------------------------
     def forward(self, x: np.ndarray) -> np.ndarray:
+        self.forward_count += 1
         if self.use_fftw:
             self._rin[...] = x
             self._fwd.execute()
@@ -172,6 +178,7 @@ class RealFFT2:
 
     def forward_buffer(self) -> np.ndarray:
         """r2c of :attr:`input_buffer`, which is preserved (no copy of the field)."""
+        self.forward_count += 1
         if self.use_fftw:
             self._fwd.execute()
             return self._cout
@@ -188,6 +195,7 @@ class RealFFT2:
 
     def inverse_buffer(self) -> np.ndarray:
         """Unnormalised c2r of :attr:`spectrum_buffer` (destroys it)."""
+        self.inverse_count += 1
         if self.use_fftw:
             self._bwd.execute()
             return self._rout
@@ -236,3 +244,12 @@ def plan(shape, threads: int | None = None, use_fftw: bool = _HAVE_PYFFTW) -> Re
             p = RealFFT2(shape, threads, use_fftw)
             _PLANS[key] = p
     return p
+
+
+def transform_counts() -> tuple[int, int]:
+    """(forward, inverse): the transforms run so far by every plan of this process, on every
+    thread (each plan is used by the thread that made it only, so its counters need no lock).
+    A solve's count is the difference of two calls around it."""
+    with _LOCK:
+        plans = list(_PLANS.values())
+    return (sum(p.forward_count for p in plans), sum(p.inverse_count for p in plans))

@@ -17,6 +17,7 @@ import numpy as np
 
 from . import __version__
 from .conventions import shown
+from .fft import transform_counts
 from .friction import sliding_direction
 from .io import FIELDS, SCALARS, cf_attributes
 from .io import attrs as _attrs
@@ -284,6 +285,7 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
     cell, h = scene.cell, scene.heights
     sc = {}
     fields = {"heights": h}
+    counted = transform_counts()  # the solve's FFTs: the difference at its end
     if scene.adhesive:
         # start from the adhesiveless contact (not from one summit cell); along a path,
         # from the carried mask joined with it (loading: no overshoot of the nucleation at
@@ -364,6 +366,8 @@ def _solve_grid(scene: Scene, mask0=None, progress=None):
     if scene.fields:
         fields.update(pressure=p, displacement=u, gap=gap, contact=mask.astype(np.int8))
     ds = grid_dataset(cell, sc, status, fields if scene.fields else {})
+    forward, inverse = np.subtract(transform_counts(), counted).tolist()
+    diag["fft_transforms"] = {"forward": forward, "inverse": inverse}
     ds.attrs.update(solver_message=msg, solver_diagnostics=json.dumps(diag, default=str),
                     velocity_x=float(op.velocity[0]), velocity_y=float(op.velocity[1]))
     return ds, mask

@@ -181,3 +181,55 @@ def test_a_threaded_solve_holds_blas_to_one_thread_and_gives_the_same_state():
     np.testing.assert_array_equal(states[0].contact, states[1].contact)
     np.testing.assert_allclose(states[1].pressure, states[0].pressure, rtol=0,
                                atol=1e-9 * np.abs(states[0].pressure).max())
+
+
+def _counting(monkeypatch):
+    """Wrap the plans' transform methods with counters of their own (the plans' counters
+    are incremented inside the wrapped methods): {'forward': n, 'inverse': n}."""
+    seen = {"forward": 0, "inverse": 0}
+    for name, kind in (("forward", "forward"), ("forward_buffer", "forward"),
+                       ("inverse_buffer", "inverse")):
+        orig = getattr(fft.RealFFT2, name)
+
+        def wrapped(self, *a, _orig=orig, _kind=kind, **k):
+            seen[_kind] += 1
+            return _orig(self, *a, **k)
+        monkeypatch.setattr(fft.RealFFT2, name, wrapped)
+    return seen
+
+
+def test_transform_counts_count_every_transform_of_every_plan():
+    """A plan counts each forward (from a field or its input buffer) and each inverse
+    (``inverse`` runs ``inverse_buffer`` once), and transform_counts sums every plan."""
+    before = fft.transform_counts()
+    a, b = fft.plan((12, 10)), fft.plan((8, 6), use_fftw=False)
+    x = np.random.default_rng(0).random((12, 10))
+    X = a.forward(x).copy()
+    a.input_buffer[...] = x
+    a.forward_buffer()
+    a.inverse(X)
+    b.inverse(b.forward(np.ones((8, 6))).copy())
+    assert np.subtract(fft.transform_counts(), before).tolist() == [3, 2]
+
+
+def test_a_solve_reports_its_transforms(monkeypatch):
+    """The dataset's solver_diagnostics carry the solve's FFTs (``fft_transforms``): those
+    that wrappers of the plans' methods count, for an adhesive path of two steps (each
+    step its own count) and an adhesiveless solve; one operator application is one pair."""
+    from pathlib import Path
+
+    from spectralbem.scenes import load_scene, solve
+
+    case = Path(__file__).resolve().parent.parent / "cases" / "jkr_sphere.toml"
+    seen = _counting(monkeypatch)
+    grid = {"grid.Nx": 64, "grid.Ny": 64, "adhesion.a0": 1e-3 / 64}
+    ds = solve(load_scene(case, overrides={**grid, "control.mean_pressure": [1e3, 5e2]}))
+    steps = json.loads(ds.attrs["solver_diagnostics"])
+    counts = [s["fft_transforms"] for s in steps]
+    assert all(c["inverse"] > 0 for c in counts)
+    assert {k: sum(c[k] for c in counts) for k in seen} == seen
+    seen.update(forward=0, inverse=0)
+    ds = solve(load_scene(case, overrides={**grid, "adhesion.dgamma": 0.0,
+                                           "control.mean_pressure": 1e3}))
+    assert json.loads(ds.attrs["solver_diagnostics"])["fft_transforms"] == seen
+    assert seen["inverse"] > 0

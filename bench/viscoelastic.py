@@ -30,8 +30,9 @@ the relaxed E0) over the 60 cases of tests/test_newton.py's 64² surface (β 10-
 
 ``--adhesive``: the adhesive state of cases/rough_convergence.toml (the physical surface,
 Δγ = 0.01 J/m², a0 = 7.8 µm, p̄ = 1e4 Pa, loading), elastic and SLS, against the
-adhesiveless solve of the same scene (adhesion removed), at 128², 256², 512² (section
-``adhesive_cost``, bench/viscoelastic_adhesive.json), and the figure
+adhesiveless solve of the same scene (adhesion removed), at 128², 256², 512², in CPU seconds
+and in FFT pairs (the datasets' ``fft_transforms``: a ratio that the machine's load does not
+move) (section ``adhesive_cost``, bench/viscoelastic_adhesive.json), and the figure
 docs/figures/solve_cost.png: CPU seconds and peak memory against N² for the elastic PK, the
 viscoelastic adhesiveless and the adhesive solves (``--figure`` redraws it from the JSON).
 
@@ -322,6 +323,12 @@ def _rough_case(material: str):
     return raw, {k: v for k, v in raw.items() if k != "adhesion"}
 
 
+def _pairs(ds) -> int:
+    """The FFT pairs of a solve (its inverse transforms, the dataset's diagnostics): one
+    operator application each, whatever the machine's speed."""
+    return int(json.loads(ds.attrs["solver_diagnostics"])["fft_transforms"]["inverse"])
+
+
 def adhesive_rows(sizes):
     from spectralbem.scenes import load_scene, solve
 
@@ -340,7 +347,12 @@ def adhesive_rows(sizes):
                 ds = solve(scene)
                 times[name] = (time.process_time() - t, ds)
             ds = times["adhesive"][1]
+            pairs = {k: _pairs(v[1]) for k, v in times.items()}
             row = dict(N=n, material=material, adhesive_seconds=times["adhesive"][0],
+                       adhesive_pairs=pairs["adhesive"],
+                       adhesiveless_pairs=pairs["adhesiveless"],
+                       pair_ratio=pairs["adhesive"] / pairs["adhesiveless"],
+                       coarse_pairs=pairs["coarse"],
                        adhesiveless_seconds=times["adhesiveless"][0],
                        ratio=times["adhesive"][0] / times["adhesiveless"][0],
                        status=str(ds["status"].values), outer=int(ds["iterations"]),
@@ -453,15 +465,22 @@ def large_markdown(rows) -> str:
 
 
 def adhesive_markdown(rows) -> str:
-    lines = ["| N² | material | adhesive state (s) | adhesiveless (s) | ratio | status | "
-             "front iterations | area (adhesive / adhesiveless) | with coarse start (s) | "
-             "ratio | status | fine front iterations | area | peak (N² arrays) |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| N² | material | adhesive state (s) | adhesiveless (s) | ratio | FFT pairs "
+             "(adhesive / adhesiveless) | ratio in pairs | status | front iterations | area "
+             "(adhesive / adhesiveless) | with coarse start (s) | ratio | FFT pairs | status | "
+             "fine front iterations | area | peak (N² arrays) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
+        def pairs(key, _r=r):  # rows recorded before the datasets counted transforms: —
+            return f"{_r[key]}" if key in _r else "—"
+        pr = f"**{r['pair_ratio']:.0f}×**" if "pair_ratio" in r else "—"
         lines.append(f"| {r['N']}² | {r['material']} | {r['adhesive_seconds']:.2f} | "
-                     f"{r['adhesiveless_seconds']:.3f} | **{r['ratio']:.0f}×** | {r['status']} | "
+                     f"{r['adhesiveless_seconds']:.3f} | **{r['ratio']:.0f}×** | "
+                     f"{pairs('adhesive_pairs')} / {pairs('adhesiveless_pairs')} | {pr} | "
+                     f"{r['status']} | "
                      f"{r['outer']} | {r['area']:.4f} / {r['area_adhesiveless']:.4f} | "
                      f"{r['coarse_seconds']:.2f} | **{r['coarse_ratio']:.0f}×** | "
+                     f"{pairs('coarse_pairs')} | "
                      f"{r['coarse_status']} | {r['coarse_outer']} | {r['coarse_area']:.4f} | "
                      f"{r.get('peak_arrays', float('nan')):.1f} |")
     return "\n".join(lines)

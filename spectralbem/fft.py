@@ -10,7 +10,7 @@ Configuration: ``set_threads(n)`` (default 1), environment variable ``SPECTRALBE
 to force the fallback, ``backend()`` tells which is in use.
 
 Cost: every plan counts the transforms it runs; :func:`transform_counts` sums them over the
-plans of this process (a solve's count is the difference around it: the machine-independent
+calling thread's plans (a solve's count is the difference around it: the machine-independent
 measure of its cost that the solvers report, one operator application being one pair).
 
 Reproducibility: a run is bit-identical to another with the same plan.  FFTW_MEASURE (the
@@ -247,9 +247,10 @@ def plan(shape, threads: int | None = None, use_fftw: bool = _HAVE_PYFFTW) -> Re
 
 
 def transform_counts() -> tuple[int, int]:
-    """(forward, inverse): the transforms run so far by every plan of this process, on every
-    thread (each plan is used by the thread that made it only, so its counters need no lock).
-    A solve's count is the difference of two calls around it."""
+    """(forward, inverse): the transforms run so far by the calling thread's plans (plans are
+    per thread, so a solve's count, the difference of two calls around it, leaves out other
+    threads' solves, and the counters need no lock)."""
+    me = threading.get_ident()
     with _LOCK:
-        plans = list(_PLANS.values())
+        plans = [p for key, p in _PLANS.items() if key[3] == me]
     return (sum(p.forward_count for p in plans), sum(p.inverse_count for p in plans))

@@ -233,3 +233,15 @@ def test_a_solve_reports_its_transforms(monkeypatch):
                                            "control.mean_pressure": 1e3}))
     assert json.loads(ds.attrs["solver_diagnostics"])["fft_transforms"] == seen
     assert seen["inverse"] > 0
+
+
+def test_transform_counts_leave_out_other_threads():
+    """Another thread's transforms (its own plans) are not in this thread's count."""
+    import threading
+
+    before = fft.transform_counts()
+    t = threading.Thread(target=lambda: fft.plan((12, 10)).forward(np.ones((12, 10))))
+    t.start()
+    t.join()
+    fft.plan((12, 10)).forward(np.ones((12, 10)))
+    assert np.subtract(fft.transform_counts(), before).tolist() == [1, 0]

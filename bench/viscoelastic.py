@@ -396,7 +396,7 @@ def large_rows(sizes, threads, out: Path, starts=LARGE_STARTS, front_tol=None,
         ov = {"grid.Nx": n, "grid.Ny": n, "solver.threads": threads}
         solve(load_scene(free, overrides=ov, base_dir=case.parent))  # plans, compiles
         w = time.perf_counter()
-        solve(load_scene(free, overrides=ov, base_dir=case.parent))
+        free_pairs = _pairs(solve(load_scene(free, overrides=ov, base_dir=case.parent)))
         free_wall = time.perf_counter() - w
         for start in starts:
             extra = {"solver.coarse_start": start == "coarse"}
@@ -414,6 +414,7 @@ def large_rows(sizes, threads, out: Path, starts=LARGE_STARTS, front_tol=None,
                        area=float(ds["area_fraction"]), mu=float(ds["mu"]),
                        mu_adhesive=float(ds["mu_adhesive"]), G1=float(ds["G1"]),
                        G2=float(ds["G2"]), dgamma=float(raw["adhesion"]["dgamma"]),
+                       adhesive_pairs=_pairs(ds), adhesiveless_pairs=free_pairs,
                        front_tol=front_tol, band_tol=band_tol,
                        date=time.strftime("%Y-%m-%d"))
             rows = [r for r in rows if _large_key(r) != _large_key(row)] + [row]
@@ -441,9 +442,9 @@ def _default_band_tol() -> float:
 def large_markdown(rows) -> str:
     lines = ["| N² | FFT threads | start | front_tol (cells) | band_tol | adhesive state "
              "(wall s) | its CPU "
-             "s | adhesiveless (wall s) | ratio | status | front iterations | area | μ | μ_a | "
-             "G1/Δγ | G2/Δγ | target | measured |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "s | adhesiveless (wall s) | ratio | FFT pairs (adhesive / adhesiveless) | status | "
+             "front iterations | area | μ | μ_a | G1/Δγ | G2/Δγ | target | measured |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     target = {1024: 120.0, 2048: 900.0}
     for r in rows:
         t = target.get(r["N"])
@@ -458,7 +459,10 @@ def large_markdown(rows) -> str:
         lines.append(f"| {r['N']}² | {r['threads']} | {start} | {ft} | {bt} | "
                      f"{r['adhesive_wall']:.0f} | "
                      f"{r['adhesive_cpu']:.0f} | {r['adhesiveless_wall']:.2f} | "
-                     f"**{r['ratio']:.0f}×** | {r['status']} | {r['outer']} | {r['area']:.4f} | "
+                     f"**{r['ratio']:.0f}×** | "
+                     + (f"{r['adhesive_pairs']} / {r['adhesiveless_pairs']} | "
+                        if "adhesive_pairs" in r else "— | ")
+                     + f"{r['status']} | {r['outer']} | {r['area']:.4f} | "
                      f"{r['mu']:.5f} | {r['mu_adhesive']:.3g} | {r['G1'] / dg:.3f} | "
                      f"{r['G2'] / dg:.3f} | {verdict} | {r['date']} |")
     return "\n".join(lines)

@@ -15,11 +15,14 @@ Usage: python bench/rough_convergence.py [--sizes 128 256 512] [--materials elas
            [--extrapolate-a0] [--path direct|stepped]
            [--out bench/rough_convergence.json] [--report]
        python bench/rough_convergence.py --scan
+       python bench/rough_convergence.py --import RUN.nc --materials sls --path stepped
 ``--report`` only rewrites docs/rough_convergence.md from the JSON; ``--scan`` runs the
 elastic loading state against a0 and σ (SCAN; JSON rough_convergence_lengths.json).  σ, the
 front smoothing, is given in units of a0 (``solver.front_smoothing``); ``--front-tol`` sets the
 tolerance of the balance in position (cells, ``solver.front_tol``; default 0.5): each value its
-own table.
+own table.  ``--import`` takes the dataset of ``spectralbem run cases/rough_convergence.toml
+--set grid.Nx=N --set grid.Ny=N --set "control.mean_pressure=[…the path's loads…]"`` (a path
+too long for one sitting: the run keeps its finished steps when stopped) as that N's row.
 """
 
 from __future__ import annotations
@@ -40,6 +43,7 @@ from spectralbem.criterion import default_smoothing  # noqa: E402
 from spectralbem.keys import DELAYED, DELAYED_DEFAULT  # noqa: E402
 from spectralbem.refinement import richardson  # noqa: E402
 from spectralbem.scenes import load_scene, read_scene_file, solve  # noqa: E402
+from spectralbem.solving import _spec_as_solved  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 CASE = ROOT / "cases" / "rough_convergence.toml"
@@ -160,6 +164,13 @@ def run_one(n: int, material: str, a0: float, sigma: float | None,
     ds, cpu = _solve(n, material, a0, sigma, loads=[1e4] if loading_only else PATHS[path],
                      coarse=coarse, front_tol=front_tol, delayed=delayed,
                      extrapolate=extrapolate)
+    return _row(ds, cpu, n, material, a0, sigma, coarse, loading_only, front_tol, delayed,
+                extrapolate, path)
+
+
+def _row(ds, cpu, n, material, a0, sigma, coarse, loading_only, front_tol, delayed,
+         extrapolate, path) -> dict:
+    """The JSON row of a solved path (:func:`run_one`; ``cpu`` None where not measured)."""
     if "step" not in ds.dims:
         ds = ds.expand_dims("step")
     steps = []
@@ -187,6 +198,36 @@ def run_one(n: int, material: str, a0: float, sigma: float | None,
                 release_rates=RATES, bands=BANDS, brackets=BRACKETS,
                 front_tol=front_tol, extrapolate_a0=extrapolate,
                 delayed_kernel=None if material == "elastic" else delayed)
+
+
+def import_run(dataset: Path, material: str, path: str) -> dict:
+    """The row of a path solved by ``spectralbem run`` of the case (a long path, whose run
+    keeps its finished steps when stopped): its scene must be the one :func:`run_one` solves
+    at the dataset's N (the case with ``material``'s overrides, the default a0, σ, kernel,
+    tolerance and start, the loads of ``path``); the CPU time is not known (—)."""
+    import xarray as xr
+
+    with xr.open_dataset(dataset) as ds:
+        ds.load()
+    scene = json.loads(ds.attrs["scene"])
+    n = int(scene["grid"]["Nx"])
+    raw = read_scene_file(CASE)
+    if MATERIALS[material] is not None:
+        raw["material"] = dict(MATERIALS[material])
+    raw["control"] = {"mean_pressure": list(PATHS[path])}
+    ov = {"grid.Nx": n, "grid.Ny": n, "adhesion.a0": A0}
+    if material != "elastic":
+        ov["solver.delayed_kernel"] = DELAYED_DEFAULT
+    want = json.loads(json.dumps(_spec_as_solved(load_scene(raw, overrides=ov,
+                                                             base_dir=CASE.parent))))
+    for spec in (scene, want):  # FFT threads change no state
+        spec.get("solver", {}).pop("threads", None)
+    problems = sorted(k for k in set(scene) | set(want) if scene.get(k) != want.get(k))
+    if problems:
+        raise SystemExit(f"{dataset}: not the case's {path} path at {n}² with the defaults "
+                         f"({', '.join(problems)} differ)")
+    return _row(ds, None, n, material, A0, None, False, False, None, DELAYED_DEFAULT, False,
+                path)
 
 
 def _kernel(r: dict):
@@ -220,6 +261,11 @@ def scan_one(n: int, a0_cells: float, sigma: float | None) -> dict:
                 front_length=float(ds["front_length"]),
                 unresolved_patches=int(ds["unresolved_patches"]),
                 unresolved_front=int(ds["unresolved_front"]))
+
+
+def _cpu(r: dict) -> str:
+    """A path's CPU seconds (— for a path imported from a run that did not measure them)."""
+    return "—" if r["cpu"] is None else f"{r['cpu']:.0f}"
 
 
 def _mm(length) -> str:
@@ -419,7 +465,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
                     f"{_num(st['mu'], '.4g')} | {_num(st['mu_adhesive'], '.3g')}{m} | "
                     f"{_num(st['G1'] / 0.01, '.3f')}{m} | {_num(st['G2'] / 0.01, '.3f')}{m} | "
                     f"{_mm(st.get('crack_tip_length'))} | {st.get('unresolved_front', '—')} | "
-                    f"{format(r['cpu'], '.0f') if k == 0 else ''} |")
+                    f"{_cpu(r) if k == 0 else ''} |")
         if any(_old_rates(r) for r in rs):
             lines += ["", "† each front cell's own band's δL_P/δA (recorded before the release "
                       "rates were ratios of sums along the front): not compared with the "
@@ -826,6 +872,9 @@ def main(argv=None):
     ap.add_argument("--path", default="direct", choices=sorted(PATHS),
                     help="the load path: the case's direct steps 1e4 → 3e4 → 1e4 Pa, or "
                          "steps of 5 kPa both ways (stepped): a separate table")
+    ap.add_argument("--import", dest="imported", type=Path, default=None,
+                    help="a dataset of `spectralbem run` of the case's --path (one material): "
+                         "its row replaces the row of its N (a long path run apart)")
     ap.add_argument("--report", action="store_true")
     ap.add_argument("--scan", action="store_true",
                     help="only the elastic state against a0 and σ (SCAN)")
@@ -843,6 +892,14 @@ def main(argv=None):
             scan_path.write_text(json.dumps(scans, indent=1))
             print(f"elastic N={n} a0={m:g} cells sigma={sig}: area {r['area_fraction']:.4f} "
                   f"{r['status']} cpu {r['cpu']:.0f} s", flush=True)
+    elif args.imported is not None:
+        if len(args.materials) != 1:
+            raise SystemExit("--import takes one --materials")
+        r = import_run(args.imported, args.materials[0], args.path)
+        runs = [x for x in runs if (x["N"],) + _key(x) != (r["N"],) + _key(r)] + [r]
+        args.out.write_text(json.dumps(runs, indent=1))
+        print(f"{r['material']} N={r['N']} ({args.path}): areas "
+              f"{[round(x['area_fraction'], 4) for x in r['steps']]}", flush=True)
     elif not args.report:
         for mat in args.materials:
             for a0 in args.a0:

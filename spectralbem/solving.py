@@ -379,12 +379,15 @@ PROGRESS_CELLS = 512 * 512
 def _bar_progress(bar):
     """A solve's progress callback (the adhesive front's outer iterations, the contact
     solver's iterations) on a tqdm bar: the text first, then the count
-    (so that the line shows the current iteration's text; a repeated count refreshes it)."""
+    (so that the line shows the current iteration's text; a repeated count refreshes it).
+    A count below the bar's is a new solve on the same bar (a load path's sub-steps): the
+    bar's count starts again there."""
     def show(k: int, text: str) -> None:
         bar.set_postfix_str(text, refresh=False)
         if k > bar.n:
             bar.update(k - bar.n)
         else:
+            bar.n = k
             bar.refresh()
     return show
 

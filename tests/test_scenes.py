@@ -635,6 +635,29 @@ def test_progress_on_a_stderr_that_is_no_terminal_is_plain_lines(capsys, monkeyp
                                                     "sweep: 5/5 point (0 s)"]
 
 
+@pytest.mark.parametrize("terminal", [False, True])
+def test_a_new_solve_on_the_same_bar_counts_from_its_own_start(capsys, monkeypatch, terminal):
+    """A load path's sub-steps solve again on the step's bar: their outer iterations count
+    from 1 (a step that took 462 iterations showed '462 it' through the sub-steps'
+    iterations, whose counts never passed it).  Both bars: plain lines and tqdm."""
+    from spectralbem import progress, solving
+
+    monkeypatch.setattr(progress, "_terminal", lambda stream: terminal)
+    monkeypatch.setattr(progress, "LOG_INTERVAL", 0.0)
+    bar = progress.progress_bar(desc="front", unit="it")
+    show = solving._bar_progress(bar)
+    for k in (1, 2, 3):
+        show(k, f"direct {k}")
+    show(1, "sub-step 1")
+    assert bar.n == 1
+    show(2, "sub-step 2")
+    assert bar.n == 2
+    bar.close()
+    if not terminal:
+        assert capsys.readouterr().err.splitlines()[-2:] == [
+            "front: 1 it, sub-step 1 (0 s)", "front: 2 it, sub-step 2 (0 s)"]
+
+
 @pytest.mark.parametrize("scene, words", [
     ({"grid": {"Lx": 1e-3, "Ly": 1e-5, "Nx": 100, "Ny": 1},
       "surface": {"kind": "sinusoid", "amplitude": 2e-6},

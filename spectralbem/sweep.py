@@ -120,6 +120,7 @@ def _check_axes(keys: list, over: list, workers) -> None:
     if dup:
         raise SceneError(f"--over: {', '.join(dup)} swept more than once (one --over per key)")
     for k, (_, values) in zip(keys, over, strict=True):
+        values = list(values)  # a numpy array of values too (the Python API's)
         twice = sorted({v for v in values if values.count(v) > 1})
         if twice:  # each would be solved again, and the axis would not index the points
             raise SceneError(f"--over {k}: {', '.join(f'{v:g}' for v in twice)} given more "

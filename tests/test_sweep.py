@@ -53,6 +53,16 @@ def test_swept_values_are_each_given_once_and_whole_numbers_stay_exact(tmp_path)
     assert sweep._typed({"sinusoid": {}}, "sinusoid.zeta", 1) == 1.0
 
 
+def test_swept_values_may_be_a_numpy_array(tmp_path):
+    """``run_sweep`` takes an axis's values as a numpy array (np.geomspace, as
+    bench/sweep2d.py passes them): the check for repeated values raised AttributeError
+    ('numpy.ndarray' object has no attribute 'count') before any point was built."""
+    with pytest.raises(SceneError, match=r"sinusoid.zeta: 0.1 given more than once"):
+        run_sweep(CASE, [("zeta", np.array([0.1, 0.1, 1.0]))], tmp_path / "d.nc",
+                  progress=False)
+    sweep._check_axes(["sinusoid.zeta"], [("zeta", np.geomspace(1e-3, 1e2, 25))], 1)
+
+
 def test_bare_swept_keys_are_looked_up_in_the_scene_as_set(tmp_path):
     """A bare ``--over`` key of a section that ``--set`` adds (a layer on a half-space
     scene) is that section's key ("not a key of this scene" before): the points are

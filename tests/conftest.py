@@ -1,8 +1,20 @@
+import signal
+
 import matplotlib
 import numpy as np
 import pytest
 
 matplotlib.use("Agg")
+
+
+def pytest_configure(config):
+    """The Ctrl-C tests send SIGINT as a terminal does.  A run started with SIGINT ignored
+    (a background job of a non-interactive shell: `( make test & )`) passes that on to
+    every process the tests start, and a process that inherits an ignored SIGINT rightly
+    keeps ignoring it; Python's own handler here gives the tests' processes the default
+    disposition a terminal's have."""
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 @pytest.fixture

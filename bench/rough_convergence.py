@@ -409,7 +409,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "eighth step, whose direct state took 462 front iterations, 40 min wall, and "
              "held front cells, and whose sub-steps had not ended 4 min later): every state "
              "`partial`, none with held cells. From 512² to 1024² area, μ, G1 and G2 move by "
-             "at most 1.9, 0.7, 0.7 and 1.1 % (the largest at unload 2e4 Pa), but μ_a by "
+             "at most 1.9, 0.7, 0.7 and 1.1 % (area and μ the most at unload 2e4 Pa), but μ_a by "
              "−4.9, −0.8, +7.3, +7.4, +3.6, +4.8, −6.3 % at load 1e4 … 3e4 and unload "
              "2.5e4, 2e4 Pa (2.078, 2.062, 2.062, 1.810, 1.295, 1.706, 1.974 × 10⁻⁴ at "
              "1024²): no smaller than from 256² to 512² (+2.7, +5.4, +1.0, −7.3, +3.6, "

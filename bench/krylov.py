@@ -24,6 +24,7 @@ import os
 for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_v, "1")
 
+import argparse  # noqa: E402
 import json  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
@@ -90,8 +91,10 @@ def table(rows) -> str:
 
 
 def main(argv=None):
-    argv = sys.argv[1:] if argv is None else argv
-    n = int(argv[0]) if argv else 256
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("n", type=int, nargs="?", default=256, help="grid size N (default 256)")
+    n = ap.parse_args(argv).n
     rows = run(n)
     text = (f"Measured {time.strftime('%Y-%m-%d')} with `python bench/krylov.py {n}` ({n}², "
             "matrix-vector products to relative residual 1e-10 and, in brackets, wall time; "

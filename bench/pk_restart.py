@@ -20,6 +20,7 @@ import os
 for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
+import argparse  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
@@ -70,7 +71,10 @@ def cases():
         layers.PressureLayer(0.01), h, dict(mean_pressure=4e-3, maxiter=3000)
 
 
-def main():
+def main(argv=None):
+    argparse.ArgumentParser(description=__doc__,
+                            formatter_class=argparse.RawDescriptionHelpFormatter
+                            ).parse_args(argv)
     rows, ops = [], {}
     totals = {"join": 0, "descent": 0}
     for name, cell, layer, h, control in cases():

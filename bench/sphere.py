@@ -18,6 +18,7 @@ import os
 for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_v, "1")
 
+import argparse  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
@@ -90,9 +91,14 @@ def sig_label(sigma):
     return "default (1.5 a0, ≥ 0.23 r)" if sigma is None else f"{sigma:g} fixed"
 
 
-def main():
-    n = int(sys.argv[1]) if len(sys.argv) > 1 else 512
-    sigmas = [None if v == "default" else float(v) for v in sys.argv[2:]] or [None]
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("n", type=int, nargs="?", default=512, help="grid size N (default 512)")
+    ap.add_argument("sigma", nargs="*", help='"default" or a fixed σ in cells')
+    args = ap.parse_args(argv)
+    n = args.n
+    sigmas = [None if v == "default" else float(v) for v in args.sigma] or [None]
     rows = []
     for sg in sigmas:
         row = run(n, sg)

@@ -52,11 +52,12 @@ QUANTITIES = (("mu_adhesive", "μ_a"), ("G1", "G1"), ("G2", "G2"), ("mu", "μ"),
               ("area_fraction", "area"))
 
 
-def _scene(length: float, n: int, front_tol: float | None):
-    """The stepped SLS path of the case on an L × L cell at N² (a0, σ, kernel, start: the
-    case's defaults) at the tolerance ``front_tol`` (None: the default)."""
+def _scene(length: float, n: int, front_tol: float | None, loads=PATH):
+    """The stepped SLS path of the case (or the ``loads`` given) on an L × L cell at N² (a0,
+    σ, kernel, start: the case's defaults) at the tolerance ``front_tol`` (None: the
+    default)."""
     raw = read_scene_file(rc.CASE)
-    raw["control"] = {"mean_pressure": list(PATH)}
+    raw["control"] = {"mean_pressure": list(loads)}
     ov = {"grid.Lx": length, "grid.Ly": length, "grid.Nx": n, "grid.Ny": n,
           "adhesion.a0": rc.A0, "solver.delayed_kernel": DELAYED_DEFAULT}
     if front_tol is not None:
@@ -101,7 +102,7 @@ def import_run(dataset: Path) -> dict:
 NEAR = 3
 
 
-def _tip_terms(ds, h: float, W: float) -> np.ndarray:
+def _tip_terms(ds, h: float, W: float, dgamma: float) -> np.ndarray:
     """Each crack-tip cell's term of μ_a, −(G − Δγ)(n·v̂) ds / W, with the normal from the
     contact mask smoothed over 1.5 cells and ds = h (an approximation of the solver's
     normals and lengths, for the split below; 0 off the crack tips)."""
@@ -111,7 +112,6 @@ def _tip_terms(ds, h: float, W: float) -> np.ndarray:
     gx, gy = np.gradient(sm)
     nx = -gx / (np.hypot(gx, gy) + 1e-300)  # outward normal · v̂ (sliding along x)
     g = ds["G_front"].values  # G/Δγ on the crack tips, NaN elsewhere
-    dgamma = float(read_scene_file(rc.CASE)["adhesion"]["dgamma"])
     return np.where(np.isfinite(g), -(g - 1.0) * dgamma * nx * h / W, 0.0)
 
 
@@ -122,14 +122,9 @@ def masks(length: float, n: int, tols) -> dict:
     of the difference in μ_a (:func:`_tip_terms`) that the front near them makes."""
     from scipy import ndimage
 
-    raw = read_scene_file(rc.CASE)
-    raw["control"] = {"mean_pressure": [PATH[0]]}
-    states = {}
-    for ft in tols:
-        ov = {"grid.Lx": length, "grid.Ly": length, "grid.Nx": n, "grid.Ny": n,
-              "solver.front_tol": ft}
-        states[ft] = solve(load_scene(raw, overrides=ov, base_dir=rc.CASE.parent))
+    states = {ft: solve(_scene(length, n, ft, loads=PATH[:1])) for ft in tols}
     h, W = length / n, PATH[0] * length**2
+    dgamma = float(read_scene_file(rc.CASE)["adhesion"]["dgamma"])
     pairs = []
     for i, a in enumerate(tols):
         for b in tols[i + 1:]:
@@ -149,7 +144,7 @@ def masks(length: float, n: int, tols) -> dict:
                 continue
             near = ndimage.binary_dilation(x, iterations=NEAR)
             ta, tb = (np.isfinite(s["G_front"].values) for s in (sa, sb))
-            ca, cb = _tip_terms(sa, h, W), _tip_terms(sb, h, W)
+            ca, cb = (_tip_terms(st, h, W, dgamma) for st in (sa, sb))
             d = float(cb.sum() - ca.sum())
             pairs.append(dict(row,
                 tips=[int(ta.sum()), int(tb.sum())],
@@ -424,6 +419,7 @@ def main(argv=None):
         m = masks(args.length, args.sizes[0], sorted(args.front_tol, reverse=True))
         data["masks"] = [x for x in data["masks"]
                          if (x["length"], x["N"]) != (m["length"], m["N"])] + [m]
+        data["masks"].sort(key=lambda x: (x["length"], x["N"]))
         OUT.write_text(json.dumps(data, indent=1))
     elif not args.report:
         for n in args.sizes:

@@ -52,30 +52,16 @@ A0 = 7.8125e-6
 #: the side L of the case's square cell (m): a0 in cells and areas per front length from it
 SIDE = float(read_scene_file(CASE)["grid"]["Lx"])
 KEYS = ("area_fraction", "mean_gap", "mu", "mu_adhesive", "G1", "G2")
-#: the release rates' definition of the runs recorded now: δL_P/δA a ratio of sums along the
-#: front (docs/theory.md, "Release rates along the front"); viscoelastic rows without it have
-#: each front cell's own band's ratio (biased on curved fronts): their G1, G2, μ_a are marked
-#: and not compared with the others'
+#: the solver's rules a row records (:func:`current`): the release rates' definition
+#: (δL_P/δA a ratio of sums along the front, docs/theory.md, "Release rates along the
+#: front"), the band (the strip the front sweeps when it advances a0 along its normal,
+#: "The band is a0 wide at every orientation") and the brackets of 2-cycles (the secant
+#: through both masks' offsets, bisected where one offset lies beyond the band: a snap;
+#: spectralbem.brackets, "Convergence").  When one of them changes, its constant changes
+#: with it and the rows of the rule before leave the JSON (they cannot be rerun)
 RATES = "ratio_of_sums"
-RATE_KEYS = ("G1", "G2", "mu_adhesive")
-#: the band rule of the runs recorded now: the band the front sweeps when it advances a0
-#: along its normal (docs/theory.md, "The band is a0 wide at every orientation"); rows
-#: without it had each front cell's band a0 wide per front length ("width") and form tables
-#: of their own
 BANDS = "advance"
-#: the bracket rule of the runs recorded now: a 2-cycle deeper than one cell places its edge
-#: by the secant through both masks' offsets, and bisects it where one offset lies beyond
-#: the band (a snap; spectralbem.brackets, docs/theory.md, "Convergence"); rows of the rules
-#: before form tables of their own: "secant" (deep snaps clipped into their flipping cell)
-#: and "clip" (every bracketed edge clipped into its flipping cell; rows without the key)
 BRACKETS = "bisect"
-#: the header note of the tables of earlier bracket rules
-BRACKETS_BEFORE = {
-    "secant": ", **before the snap bisection**: a deep 2-cycle whose offsets lie beyond the "
-              "band clipped into its flipping cell",
-    "clip": ", **before the bracket secant**: every 2-cycle's edge clipped into its "
-            "flipping cell",
-}
 
 
 #: the load paths (Pa): the direct steps of the case file, and the quasi-static path through
@@ -116,9 +102,12 @@ def _step_name(r: dict, j: int) -> str:
     return ("load " if j <= top else "unload ") + _pa(r["steps"][j]["mean_pressure"])
 
 
-def _old_rates(r: dict) -> bool:
-    """A viscoelastic row whose G1, G2, μ_a are the per-owner ratios of before."""
-    return r["material"] != "elastic" and r.get("release_rates") != RATES
+def current(r: dict) -> bool:
+    """A row solved by the solver's present rules (:data:`RATES`, :data:`BANDS`,
+    :data:`BRACKETS`): the only rows the JSON keeps and the page shows (a row of a rule since
+    replaced cannot be rerun)."""
+    return (r.get("bands", "width") == BANDS and r.get("brackets", "clip") == BRACKETS
+            and (r["material"] == "elastic" or r.get("release_rates") == RATES))
 MATERIALS = {
     "elastic": {"kind": "elastic", "E": 1e6, "nu": 0.5},  # resting slab: no motion needed
     "sls": None,  # the case file's
@@ -278,6 +267,106 @@ def _mm(length) -> str:
     return "—" if length is None or not np.isfinite(length) else f"{length * 1e3:.2f}"
 
 
+#: the page's findings (docs/rough_convergence.md, "What this case shows"): numbers read off
+#: the tables below and the pages they link; rewrite them when the tables are measured again
+FINDINGS = (
+    "- **Loading**: the viscoelastic loading state's area moves by 1.2 % and 0.45 % from "
+    "256² to 512² to 1024² (the loading-only table), μ by 0.2 % and 0.1 %, G1 by 0.9 % and "
+    "0.3 %, G2 by 0.5 % and 1.1 %, μ_a by 2.6 % and 5.1 % (1, 2 and 4 cells per vτ; the "
+    "whole path at 1024² reaches the same loading state, 4227 CPU-s). The elastic loading "
+    "area at a0 = 7.8 µm, edge extrapolated, moves by 0.2 % from 256² to 512² (0.2917, "
+    "0.2922; 2 and 4 cells per a0) and is 1.7 % below at 1024² (0.2873, 8 cells, with 75 "
+    "front cells of oscillating features narrower than a0 held unbalanced, [docs/theory.md,"
+    " \"Features narrower than a0\"](theory.md#features-narrower-than-a0)); halving a0 to 3.9"
+    " µm (one cell) at 256² moves it by −1.2 % (0.2881; −0.3 % at 3e4 Pa, −1.5 % on "
+    "unloading; a0, numerical here, is not yet small against the patches). With the edge of"
+    " the a0 tests alone (no extrapolation) the elastic loading areas lie 7.0 % and 8.4 % "
+    "lower at 256² and 512² (0.2714, 0.2678; the table without \"edge extrapolated\"): the "
+    "edge of a band 2 and 4 cells wide still moves with a0, which the extrapolation removes"
+    " ([docs/theory.md, \"Extrapolating the elastic "
+    "edge\"](theory.md#extrapolating-the-elastic-edge)).",
+    "- **The state at a load is not unique.** Adhesion makes the contact hysteretic: at 1e4"
+    " Pa the elastic unloading state holds 5.6 % and 3.6 % more area than the loading state"
+    " at 256² and 512² (both balanced), and the states between them are balanced too where "
+    "the front is pinned by the roughness or a neck bridges two patches. Which one a solve "
+    "reaches depends on its start, its tolerance and its load steps. From the coarse-grid "
+    "start (the tables \"coarse-grid start\") the elastic areas read −0.9, −0.5, −0.5 % "
+    "(256²) and −2.0, −1.2, −0.6 % (512²) from the adhesiveless start's at load 1e4, 3e4 "
+    "and unload 1e4 Pa: as far as 256² from 512². The SLS path from the coarse-grid start "
+    "keeps its loading and 3e4 Pa states within 1.4 % in area and μ, but μ_a moves by −5.4 "
+    "% and −4.0 % on loading, and its direct unloading step reaches other states: area −2.2"
+    " % and −5.6 %, μ −1.1 % and −8.0 %, μ_a −20 % and −14 % at 256² and 512² (the path's "
+    "history is its own). Over the balance's tolerance (below, and "
+    "[state_spread.md](state_spread.md)) area, μ, G1, G2 stay within 2.2 % and μ_a moves by"
+    " up to 14 %. The spread between such states is the resolution of the question \"the "
+    "state at this load\" on this surface, and for μ_a it is wider than 5 %.",
+    "- **Unloading needs 512²** here. The elastic unloading area moves by 1.7 % from 256² "
+    "to 512² (0.3080, 0.3027) and by 0.8 % to 1024² (0.3004), the SLS one by 1.0 % (0.2248,"
+    " 0.2271) and its μ by 6.0 % (0.01647, 0.01746) along the direct step from 3e4 Pa. "
+    "Unloaded in steps of 5 kPa instead, the two grids agree: area 0.2247 and 0.2241 (0.3 "
+    "%), μ 0.01631 and 0.01633 (0.1 %), μ_a 0.9 %, G1 and G2 0.8 % (the table \"in steps\"), "
+    "and the direct path at 1024² reads 0.2241 and μ 0.01645 on unloading: the 512² state "
+    "of the direct step is the outlier, one of the neighbouring balanced states that step "
+    "can reach ([docs/theory.md, \"Load-path steps\"](theory.md#load-path-steps)).",
+    "- **Loaded and unloaded in steps of 5 kPa** (`--path stepped`, the table \"in steps\"), "
+    "every state converges at 256² and 512², and the three compared states meet the 2 % and"
+    " 5 % lines from 256² to 512²: area 1.2, 0.4, 0.3 %, μ 0.2, 0.2, 0.1 %, G1 0.9, 0.5, "
+    "0.8 %, G2 0.5, 0.6, 0.8 %, μ_a 2.6, 3.5, 0.9 % at load 1e4, 3e4 and unload 1e4 "
+    "(unloading area 0.2247 and 0.2241, μ 0.01631 and 0.01633). The intermediate states do "
+    "not all: area, μ, G1 and G2 stay within 1.7 % at every step, but μ_a moves by 5.1, "
+    "7.9, 10.8 and 5.7 % at load 1.5e4, 2.5e4 and unload 2e4, 1.5e4 Pa, and by 0.9-3.5 % at"
+    " the other five: at 1-2 cells per vτ, a scatter of up to ±12 % whose sign changes from"
+    " step to step about a shift of a few per cent. Two 512² unloading steps (to 2.5e4 and "
+    "1.5e4 Pa) held front cells of oscillating features narrower than a0 unbalanced in one "
+    "step and were solved again in sub-steps: the first balances with none held in two, the"
+    " second holds 34 in four (28 in one) ([docs/theory.md, \"Features narrower than "
+    "a0\"](theory.md#features-narrower-than-a0), the columns \"unresolved front\" and, in the "
+    "JSON, `substeps`). CPU 9, 77 and 1698 s at 128²-512² for the nine states (826 s at "
+    "512² without the sub-steps' retries).",
+    "- **The stepped path at 1024²** (4 cells per vτ; not in the table: its first seven "
+    "states, `spectralbem run cases/rough_convergence.toml --set grid.Nx=1024 --set "
+    "grid.Ny=1024 --set solver.threads=2 --set \"control.mean_pressure=[1e4, 1.5e4, 2e4, "
+    "2.5e4, 3e4, 2.5e4, 2e4, 1.5e4, 1e4]\"` stopped by SIGTERM in its eighth step, whose "
+    "direct state took 462 front iterations, 40 min wall, and held front cells, and whose "
+    "sub-steps had not ended 4 min later): every state `partial`, none with held cells. "
+    "From 512² to 1024² area, μ, G1 and G2 move by at most 1.9, 0.7, 0.7 and 1.1 % (area "
+    "and μ the most at unload 2e4 Pa), but μ_a by −4.9, −0.8, +7.3, +7.4, +3.6, +4.8, −6.3 "
+    "% at load 1e4 … 3e4 and unload 2.5e4, 2e4 Pa (2.078, 2.062, 2.062, 1.810, 1.295, "
+    "1.706, 1.974 × 10⁻⁴ at 1024²): no smaller than from 256² to 512² (+2.7, +5.4, +1.0, "
+    "−7.3, +3.6, +3.6, +12.1 %). Refining from 2 to 4 cells per vτ does not narrow μ_a's "
+    "spread: at this surface and a0 the path's μ_a is set to about ±7 % by which of the "
+    "neighbouring balanced states a step reaches, not by the grid. Wall times of the seven "
+    "steps on two FFT threads: 582 (beside a test run), 249, 339, 437, 393, 470, 898 s.",
+    "- **μ_a at 3e4 Pa and on unloading** is not converged along the direct steps: 5.7 % "
+    "and 18.5 % from 256² to 512², 4.9 % and 6.3 % from 512² to 1024² (1.21e-4, 1.27e-4 and"
+    " 2.60e-4, 2.44e-4 at 512² and 1024²). The 1024² unloading state's 2.44e-4 lies 12 % "
+    "below the 2.77e-4 and 2.79e-4 that 256² and 512² read after the 5 kPa steps, and at "
+    "3e4 Pa the stepped path and the direct step differ by 6 % at 256² and 3 % at 512² "
+    "(1.21e-4 against 1.14e-4, 1.25e-4 against 1.21e-4): there μ_a is set by the path to a "
+    "few per cent, and path and grid are not separated ([docs/theory.md, \"Load-path "
+    "steps\"](theory.md#load-path-steps)). G1 − G2 is 0.15-0.18 Δγ at these states, so a 1 %"
+    " move of G1 moves μ_a by 6-7 %.",
+    "- **How far the balance's tolerance sets μ_a** ([state_spread.md](state_spread.md), "
+    "`bench/state_spread.py`). The stepped path solved at `front_tol` = 0.5, 0.25 and 0.125"
+    " cells (the tables of those tolerances) reaches at every step balanced states whose "
+    "area, μ, G1 and G2 agree within 2.2 % (medians 0.1-0.7 %), but whose μ_a differ by up "
+    "to 14 % at 256² (median 4.8 %) and 7.7 % at 512² (median 2.5 %, two tolerances), with "
+    "no trend in the tolerance (the loading state at 256²: 2.127, 2.279, 2.133 × 10⁻⁴). The"
+    " states differ by 1-4 % of their contact cells, a cell or a few at a hundred or more "
+    "places along the front (the loading state at 256²), and the change of μ_a comes from "
+    "the crack tips next to those places: which front cells there are crack tips and not "
+    "held by contact (308 → 335 and 509 → 417 of them), and their G. So on this 1 mm cell "
+    "μ_a is defined by \"the state at this load\" to within ±4 % at 512² (half the largest "
+    "range), the size of the 512² → 1024² differences of the stepped path (−4.9 … +7.4 %). "
+    "Averaged over the tolerances, 256² and 512² agree within 3.4 % on loading and differ "
+    "by −4.6 … +9.0 % on unloading, where 256² has one cell per vτ (μ_a 7 % low at one cell"
+    " on the sinusoid). On a 2 mm cell at the 256² cell size (512², four times the "
+    "crack-tip length) the spread between two tolerances is no narrower (median 2.3 %, "
+    "largest 9.3 %, against 2.9 % and 6.9 % at 1 mm), so a larger cell does not average it "
+    "away.",
+)
+
+
 def report(runs: list, path: Path, scans: list = ()) -> None:
     lines = ["# Rough-surface adhesive contact: grid refinement", "",
              "One physical rough surface (`cases/rough_convergence.toml`: L = 1 mm, H = 0.8, "
@@ -293,8 +382,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              *resolution_table(runs),
              "![refinement](figures/rough_convergence.png)", "",
              "The figure: area fraction, μ, the release rates, μ_a at the path's three states "
-             "and the crack-tip length it is summed over against N, from the runs with the "
-             "advance band (open markers: "
+             "and the crack-tip length it is summed over against N (open markers: "
              "states not verified; dashed: the coarse-grid start; stars and crosses: the "
              "elastic edge extrapolated to a0 → 0, `--extrapolate-a0`; the elastic a0 = one cell "
              "row is the scan below; μ's u-form, −Σ p v̂·∇u on the mask, is drawn for "
@@ -332,136 +420,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
              "the same path from the coarse grid's front (`--coarse-start`, "
              "`solver.coarse_start`) and reach other balanced states (below).", "",
              "## What this case shows", "",
-             "- **Loading**: the viscoelastic loading state's area moves by 1.2 % and 0.45 % "
-             "from 256² to 512² to 1024² (the loading-only table), μ by 0.2 % and 0.06 %, G1 "
-             "by 0.9 % and 0.3 %, G2 by 0.5 % and 1.1 %, μ_a by 2.7 % and 4.9 % (1, 2 and 4 "
-             "cells per vτ; with deep snaps clipped into their flipping cell, the rule before "
-             "the snap bisection, 0.5 % and 0.25 % in area, 2.4 % and 0.5 % in μ_a: the "
-             "spread of neighbouring balanced states, below; the whole path at 1024² reaches "
-             "the same loading state, 4227 CPU-s). The "
-             "elastic loading area at a0 = 7.8 µm, edge "
-             "extrapolated, moves by 0.2 % from 256² to 512² (0.2917, 0.2922; 2 and 4 cells "
-             "per a0; at 1024², 8 cells, 0.2873, 1.7 % below, after 164 front iterations, "
-             "with 75 front cells of oscillating features narrower than a0 held unbalanced, "
-             "[docs/theory.md, \"Features narrower than a0\"]"
-             "(theory.md#features-narrower-than-a0)); halving a0 to 3.9 µm "
-             "(one cell) at 256² moves it by "
-             "−1.2 % (0.2881; −0.3 % at 3e4 Pa, −1.5 % on unloading; a0, numerical here, is "
-             "not yet small against the patches).",
-             "- **The state at a load is not unique.** Adhesion makes the contact "
-             "hysteretic: at 1e4 Pa the elastic unloading state holds 5.6 % and 3.6 % more area "
-             "than the loading state at 256² and 512² (both balanced; up to 11 % with the a0 "
-             "tests' edge before the advance band), and the states "
-             "between them are balanced "
-             "too where the front is pinned by the roughness or a neck bridges two patches. "
-             "Which one a solve reaches depends on its start (the figures in the rest of "
-             "this item are of the tables before the advance band): the coarse-grid start "
-             "differs "
-             "from the adhesiveless start by as much as 256² from 512² (elastic, the a0 "
-             "tests' edge: 1.6 % and 0.2 % of area on loading at 256² and 512², 1.6 % and "
-             "2.0 % on unloading). μ_a, a small difference summed over the crack tips, "
-             "moves with the start more than with the grid: the SLS path from the "
-             "coarse-grid start reads μ_a +3 % and −8 % on loading at 256² and 512², −19 % "
-             "and −13 % on unloading, where its area and μ stay within 0.6 % (but for the "
-             "512² unloading state: area −4.2 %, μ −1.5 %); the two starts at 1024² differ by 12 % "
-             "([docs/theory.md, \"Known limits\"](theory.md#known-limits)). The spread "
-             "between starts is the "
-             "resolution of the question \"the state at this load\" on this surface, and "
-             "for μ_a it is wider than 5 %.",
-             "- **Unloading needs 512²** here. The elastic unloading area moves by 1.7 % "
-             "from 256² to 512² (0.3080, 0.3027) and by 0.8 % to 1024² (0.3004), the SLS one "
-             "by 1.0 % (0.2248, "
-             "0.2271) and its μ by 6.0 % (0.01647, 0.01746): the 512² SLS unloading state "
-             "took 114 front iterations and is one of several neighbouring balanced states "
-             "(with deep snaps clipped, the rule before the snap bisection, it read 0.2244 and "
-             "μ 0.01624 after 214). Unloaded quasi-statically instead, through 2e4 and "
-             "1.5e4 Pa, the two grids agree: area 0.2250 and 0.2242 (0.3 %), μ 0.01630 and "
-             "0.01628 (0.1 %), μ_a 2.1 %, G1 0.7 %, G2 0.5 % (`spectralbem run` of the case "
-             "with that `control.mean_pressure` list; [docs/theory.md, "
-             "\"Load-path steps\"](theory.md#load-path-steps)): the direct step's 512² state "
-             "is the outlier. The direct path at 1024² (4227 CPU-s, 433 front iterations "
-             "on the unloading step) reads 0.2241 and μ 0.01645 on unloading: 0.3 % and "
-             "0.1 % from the 256² direct state, 0.3 % and 0.6 % from the 512² stepped one, "
-             "1.3 % and 6 % from the 512² direct one. A coarse grid can "
-             "add equilibria of its own: before the advance "
-             "band the 256² elastic unloading state depended on the tolerance and the path's "
-             "steps (0.3193 and 0.3162 at `front_tol` = 0.5 and 0.25, 0.3102 and 0.3179 "
-             "unloaded in steps of 5 kPa: a spread of 2.9 %), where the 512² state read "
-             "0.3024-0.3029 (0.2 %); the 512² unloading state sampled at 256² is balanced "
-             "there too, and the 256² state carried to 512² recedes to the 512² path's "
-             "state ([docs/theory.md, \"Load-path steps\"](theory.md#load-path-steps)).",
-             "- **Loaded and unloaded in steps of 5 kPa** (`--path stepped`, the table "
-             "\"in steps\"), every state converges at 256² and 512², and the three compared "
-             "states meet the 2 % and 5 % lines from 256² to 512²: area 1.2, 0.4, 0.3 %, μ "
-             "0.2, 0.2, 0.1 %, G1 0.9, 0.5, 0.8 %, G2 0.5, 0.6, 0.8 %, μ_a 2.6, 3.5, 0.9 % at "
-             "load 1e4, 3e4 and unload 1e4 (unloading area 0.2247 and 0.2241, μ 0.01631 and "
-             "0.01633). The intermediate states do not all: area, μ, G1 and G2 stay within "
-             "1.7 % at every step, but μ_a moves by 5.1, 7.9, 10.8 and 5.7 % at load 1.5e4, "
-             "2.5e4 and unload 2e4, 1.5e4 Pa, and by 0.9-3.5 % at the other five: at 1-2 "
-             "cells per vτ, a scatter of up to ±12 % whose sign changes from step to step "
-             "about a shift of a few per cent. Two 512² unloading steps (to 2.5e4 and "
-             "1.5e4 Pa) held front cells of oscillating features narrower than a0 "
-             "unbalanced in one step and were solved again in sub-steps: the first balances "
-             "with none held in two, the second holds 34 in four (28 in one) "
-             "([docs/theory.md, \"Features narrower than a0\"]"
-             "(theory.md#features-narrower-than-a0), the columns \"unresolved front\" and, "
-             "in the JSON, `substeps`). CPU 9, 77 and 1698 s at 128²-512² for the nine "
-             "states (826 s at 512² without the sub-steps' retries).",
-             "- **The stepped path at 1024²** (4 cells per vτ; not in the table: its first "
-             "seven states, `spectralbem run cases/rough_convergence.toml --set grid.Nx=1024 "
-             "--set grid.Ny=1024 --set solver.threads=2 --set \"control.mean_pressure=[1e4, "
-             "1.5e4, 2e4, 2.5e4, 3e4, 2.5e4, 2e4, 1.5e4, 1e4]\"` stopped by SIGTERM in its "
-             "eighth step, whose direct state took 462 front iterations, 40 min wall, and "
-             "held front cells, and whose sub-steps had not ended 4 min later): every state "
-             "`partial`, none with held cells. From 512² to 1024² area, μ, G1 and G2 move by "
-             "at most 1.9, 0.7, 0.7 and 1.1 % (area and μ the most at unload 2e4 Pa), but μ_a by "
-             "−4.9, −0.8, +7.3, +7.4, +3.6, +4.8, −6.3 % at load 1e4 … 3e4 and unload "
-             "2.5e4, 2e4 Pa (2.078, 2.062, 2.062, 1.810, 1.295, 1.706, 1.974 × 10⁻⁴ at "
-             "1024²): no smaller than from 256² to 512² (+2.7, +5.4, +1.0, −7.3, +3.6, "
-             "+3.6, +12.1 %). Refining from 2 to 4 cells per vτ does not narrow μ_a's "
-             "spread: at this surface and a0 the path's μ_a is set to about ±7 % by which "
-             "of the neighbouring balanced states a step reaches, not by the grid. Wall "
-             "times of the seven steps on two FFT threads: 582 (beside a test run), 249, 339, "
-             "437, 393, 470, 898 s.",
-             "- **μ_a at 3e4 Pa and on unloading** is not converged along the direct steps: "
-             "5.7 % and 18.5 % from 256² to 512², 4.9 % and 6.3 % from 512² to 1024² "
-             "(1.21e-4, 1.27e-4 and 2.60e-4, 2.44e-4; the 1024² unloading state's 2.44e-4 "
-             "lies 11 % below the 2.75e-4 that 256² and 512² agree on after the 5 kPa "
-             "steps, so there path and grid are not yet separated; at 3e4 Pa the paths "
-             "through 2e4 Pa and the direct step differ by 5.8 % at either grid, so there μ_a "
-             "is set by the path to about 6 %, [docs/theory.md, \"Load-path "
-             "steps\"](theory.md#load-path-steps)): "
-             "G1 − G2 is 0.15-0.18 Δγ there, so a 1 % move of G1 moves μ_a "
-             "by 6-7 %, and at 3e4 Pa about 90 % of μ_a sits on the edges of the non-contact "
-             "lakes, whose G1 still grew before the bracket secant (1.092, 1.098, 1.107 Δγ at "
-             "256²-1024²: G1 − Δγ up "
-             "by 7 % and 9 % per doubling; [docs/theory.md, "
-             "\"Known limits\"](theory.md#known-limits)). At 2048² (8 cells per vτ; "
-             "`python bench/viscoelastic.py "
-             "--large`, before the advance band) the loading state from the coarse-grid start "
-             "at front_tol = 1 cell "
-             "read μ_a 3.4 % below the 1024² state from the same start and tolerance (G1 "
-             "and G2 within 0.3 %).",
-             "- **How far the balance's tolerance sets μ_a** ([state_spread.md]"
-             "(state_spread.md), `bench/state_spread.py`). The stepped path solved at "
-             "`front_tol` = 0.5, 0.25 and 0.125 cells (the tables of those tolerances) "
-             "reaches at every step balanced states whose area, μ, G1 and G2 agree within "
-             "2.2 % (medians 0.1-0.7 %), but whose μ_a differ by up to 14 % at 256² (median "
-             "4.8 %) and 7.7 % at 512² (median 2.5 %, two tolerances), with no trend in the "
-             "tolerance (the loading state at 256²: 2.127, 2.279, 2.133 × 10⁻⁴). The states "
-             "differ by 1-4 % of their contact cells, a cell or a few at a hundred or more "
-             "places along the front (the loading state at 256²), and the change of μ_a comes "
-             "from the crack tips next to those places: which front cells there are crack "
-             "tips and not held by contact (308 → 335 and 509 → 417 of them), and their G. "
-             "So on this 1 mm cell μ_a is defined by \"the state at this load\" to within "
-             "±4 % at 512² (half the largest range), the size of the 512² → 1024² "
-             "differences of the stepped path "
-             "(−4.9 … +7.4 %). Averaged over the tolerances, 256² and 512² agree within 3.4 % "
-             "on loading and differ by −4.6 … +9.0 % on unloading, where 256² has one cell "
-             "per vτ (μ_a 7 % low at one cell on the sinusoid). On a 2 mm cell at the 256² "
-             "cell size (512², four times the crack-tip length) the spread between two "
-             "tolerances is no narrower (median 2.3 %, largest 9.3 %, against 2.9 % and 6.9 "
-             "% at 1 mm), so a larger cell does not average it away.", "",
+             *FINDINGS, "",
              "## The tables", "",
              "The default tables first (the elastic edge extrapolated to a0 → 0, the sls "
              "path and loading state with the default kernel), then the other numerical "
@@ -469,7 +428,7 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
     by = {}
     for r in runs:
         by.setdefault(_key(r), []).append(r)
-    for (mat, a0, sig, coarse, only, ftol, dk, ex, bnd, brk, pth), rs in sorted(
+    for (mat, a0, sig, coarse, only, ftol, dk, ex, _bands, _brackets, pth), rs in sorted(
             by.items(), key=_table_order):
         rs = sorted(rs, key=lambda r: r["N"])
         lines += [f"### {mat}, a0 = {a0 * 1e6:g} µm, front smoothing σ = "
@@ -480,9 +439,6 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
                   + (", edge extrapolated to a0 → 0 (`--extrapolate-a0`)" if ex else "")
                   + ("" if dk is None else f", delayed kernel: {dk}"
                      + (" (default)" if dk == DELAYED_DEFAULT else " (`--delayed-kernel`)"))
-                  + ("" if bnd == BANDS else ", **before the advance band**: each front "
-                     "cell's band a0 wide per front length")
-                  + BRACKETS_BEFORE.get(brk, "")
                   + ("" if pth == "direct" else ", loaded and unloaded in steps of 5 kPa "
                      "(`--path stepped`)"),
                   "",
@@ -490,20 +446,15 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
                   "G2/Δγ | crack tips (mm) | unresolved front (cells) | CPU s (path) |",
                   "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in rs:
-            m = "†" if _old_rates(r) else ""
             for k, st in enumerate(r["steps"]):
                 name = _step_name(r, k)
                 lines.append(
                     f"| {r['N']} | {name} | {st['status']} | {st['balanced_fraction']:.3f} | "
                     f"{st['area_fraction']:.4f} | {st['mean_gap'] * 1e6:.4f} | "
-                    f"{_num(st['mu'], '.4g')} | {_num(st['mu_adhesive'], '.3g')}{m} | "
-                    f"{_num(st['G1'] / 0.01, '.3f')}{m} | {_num(st['G2'] / 0.01, '.3f')}{m} | "
+                    f"{_num(st['mu'], '.4g')} | {_num(st['mu_adhesive'], '.3g')} | "
+                    f"{_num(st['G1'] / 0.01, '.3f')} | {_num(st['G2'] / 0.01, '.3f')} | "
                     f"{_mm(st.get('crack_tip_length'))} | {st.get('unresolved_front', '—')} | "
                     f"{_cpu(r) if k == 0 else ''} |")
-        if any(_old_rates(r) for r in rs):
-            lines += ["", "† each front cell's own band's δL_P/δA (recorded before the release "
-                      "rates were ratios of sums along the front): not compared with the "
-                      "others'."]
         lines.append("")
         if len(rs) >= 3:
             lines += ["Observed order p and Richardson estimate of the relative error at each N "
@@ -518,8 +469,6 @@ def report(runs: list, path: Path, scans: list = ()) -> None:
                 for key in keys:
                     vals = [_state(r, k)[key] for r in rs]
                     if max(abs(v) for v in vals) < 1e-12:  # zero to round-off (elastic μ)
-                        continue
-                    if key in RATE_KEYS and any(_old_rates(r) for r in rs[-3:]):
                         continue
                     if not all(_verified(r, k) for r in rs[-3:]):
                         lines.append(f"| {key} ({name}) | unverified state | | "
@@ -588,10 +537,7 @@ def _plot(ax, ns, vals, ok, label, style="-", marker="o", color=None):
 
 def figure(runs: list, scans: list, out: Path) -> None:
     """Area fraction, μ, G1, G2, μ_a and the crack-tip length against N from the JSON
-    (docs/rough_convergence.md): the runs of the current band and bracket rules
-    (:data:`BANDS`, :data:`BRACKETS`) only."""
-    runs = [r for r in runs if r.get("bands", "width") == BANDS
-            and r.get("brackets", "clip") == BRACKETS]
+    (docs/rough_convergence.md)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -710,8 +656,6 @@ def _pair_table(rs: list, pair=(256, 512)) -> list:
             x, y = sa[key], sb[key]
             if not (sa["status"] in VERIFIED and sb["status"] in VERIFIED):
                 cells.append("unverified")
-            elif key in RATE_KEYS and (_old_rates(a) or _old_rates(b)):
-                cells.append("—†" if _old_rates(a) != _old_rates(b) else "† only")
             elif max(abs(x), abs(y)) < 1e-12:
                 cells.append("0 (both)")
             else:
@@ -733,7 +677,7 @@ def _table_runs(runs, material: str, extrapolate: bool, path: str = "direct") ->
     want = (material, A0, None, False, False, None,
             None if material == "elastic" else DELAYED_DEFAULT, extrapolate, BANDS, BRACKETS,
             path)
-    return sorted((r for r in runs if _key(r) == want and not _old_rates(r)),
+    return sorted((r for r in runs if _key(r) == want),
                   key=lambda r: r["N"])
 
 
@@ -914,6 +858,7 @@ def main(argv=None):
                     help="only the elastic state against a0 and σ (SCAN)")
     args = ap.parse_args(argv)
     runs = json.loads(args.out.read_text()) if args.out.exists() else []
+    runs = [r for r in runs if current(r)]  # rows of replaced rules cannot be rerun
     scan_path = args.out.with_name(args.out.stem + "_lengths.json")
     scans = json.loads(scan_path.read_text()) if scan_path.exists() else []
     if args.scan:

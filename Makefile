@@ -52,12 +52,16 @@ bench: $(STAMP)
 	$(BIN)/python bench/sweep2d.py --rough 512
 	$(BIN)/python bench/oned.py
 	$(BIN)/python bench/rough_convergence.py
+	$(BIN)/python bench/rough_convergence.py --materials elastic --extrapolate-a0 --sizes 256 512
+	$(BIN)/python bench/rough_convergence.py --materials elastic --extrapolate-a0 --sizes 256 512 --coarse-start
+	$(BIN)/python bench/rough_convergence.py --materials sls --sizes 256 512 --coarse-start
 	$(BIN)/python bench/rough_convergence.py --materials sls --path stepped --sizes 128 256 512
 	$(BIN)/python bench/rough_convergence.py --materials sls --path stepped --sizes 256 512 --front-tol 0.25
 	$(BIN)/python bench/rough_convergence.py --materials sls --path stepped --sizes 256 --front-tol 0.125
 	$(BIN)/python bench/state_spread.py --masks --length 1e-3 --sizes 256 --front-tol 0.5 0.25 0.125
 	$(BIN)/python bench/state_spread.py --masks --length 2e-3 --sizes 512 --front-tol 0.5 0.25 0.125
 	$(BIN)/python bench/state_spread.py --length 2e-3 --sizes 512 --front-tol 0.5 0.25
+	$(BIN)/python bench/state_ensemble.py --sizes 256 512
 
 figures: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python cases/figures_1d.py

@@ -278,7 +278,8 @@ def report(groups: dict) -> list:
               "docs/rough_convergence.md). Averaged over the tolerances, 256² and 512² agree "
               "within 3.4 % on loading; on unloading they differ by −4.6 … +9.0 %, where "
               "256² has one cell per relaxation length vτ (μ_a 7 % low at one cell on the "
-              "sinusoid, docs/performance.md).",
+              "sinusoid, docs/performance.md). The means over eight tolerances per grid, "
+              "with their standard errors, are in [state_ensemble.md](state_ensemble.md).",
               "- **One cell is one sample of the surface.** The 2 mm cell is another "
               "realisation of the same statistics (same seed, more modes): at the same cell "
               "size its area and μ lie within 3 % and 4 % of the 1 mm cell's along the path, "

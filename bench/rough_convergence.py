@@ -366,7 +366,7 @@ FINDINGS = (
     "away. Averaged over eight tolerances per grid "
     "([state_ensemble.md](state_ensemble.md)), the loading state's μ_a agrees within 2.0 ± "
     "1.2 % and 1.2 ± 0.9 % from 256² to 512² to 1024² (standard errors of the means), while"
-    " after the direct unloading step and a slow loading the 256² means are 12 % off the "
+    " after the direct unloading step and a slow loading the 256² means are 11-12 % off the "
     "512² ones: 256² resolves vτ with one cell.",
 )
 

@@ -284,7 +284,7 @@ FINDINGS = (
     "lower at 256² and 512² (0.2714, 0.2678; the table without \"edge extrapolated\"): the "
     "edge of a band 2 and 4 cells wide still moves with a0, which the extrapolation removes"
     " ([docs/theory.md, \"Extrapolating the elastic "
-    "edge\"](theory.md#extrapolating-the-elastic-edge)).",
+    "edge\"](theory.md#extrapolating-the-elastic-edge-to-a0--0)).",
     "- **The state at a load is not unique.** Adhesion makes the contact hysteretic: at 1e4"
     " Pa the elastic unloading state holds 5.6 % and 3.6 % more area than the loading state"
     " at 256² and 512² (both balanced), and the states between them are balanced too where "

@@ -106,7 +106,7 @@ def run_one(n: int, path: str, front_tol: float) -> dict:
     t = time.process_time()
     ds = solve(ss._scene(rc.SIDE, n, ft, LOADS[path]))
     row = rc._row(ds, time.process_time() - t, n, "sls", rc.A0, None, False, path == "loading",
-                  ft, DELAYED_DEFAULT, False, "direct")
+                  ft, DELAYED_DEFAULT, False, "slow" if path == "slow" else "direct")
     row.update(ensemble_path=path, date=time.strftime("%Y-%m-%d"))
     return row
 
@@ -268,6 +268,10 @@ def _order(name: str) -> int:
     return NAMES.index(name)
 
 
+def _rows() -> list:
+    return json.loads(OUT.read_text())["rows"] if OUT.exists() else []
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", type=int, nargs="+", default=[256, 512])
@@ -280,15 +284,14 @@ def main(argv=None):
             raise SystemExit(f"--front-tol: {ft:g} cells is outside (0, {FRONT_TOL:g}]: "
                              "a state of the sample must be balanced by the default's "
                              "definition too")
-    rows = json.loads(OUT.read_text())["rows"] if OUT.exists() else []
+    rows = _rows()
     if not args.report:
         for n in args.sizes:
             for ft in args.front_tol:
                 r = run_one(n, args.path, ft)
                 key = (r["ensemble_path"], r["N"], ft)
                 # read again: another run of this script may have added rows meanwhile
-                rows = json.loads(OUT.read_text())["rows"] if OUT.exists() else []
-                rows = [x for x in rows if (x["ensemble_path"], x["N"],
+                rows = [x for x in _rows() if (x["ensemble_path"], x["N"],
                                             x.get("front_tol") or FRONT_TOL) != key] + [r]
                 OUT.write_text(json.dumps({"rows": rows}, indent=1))
                 print(f"{args.path} N={n} front_tol={ft:g}: μ_a "

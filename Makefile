@@ -62,6 +62,7 @@ bench: $(STAMP)
 	$(BIN)/python bench/state_spread.py --masks --length 2e-3 --sizes 512 --front-tol 0.5 0.25 0.125
 	$(BIN)/python bench/state_spread.py --length 2e-3 --sizes 512 --front-tol 0.5 0.25
 	$(BIN)/python bench/state_ensemble.py --sizes 256 512
+	$(BIN)/python bench/front_anatomy.py --sizes 128 256 512
 
 figures: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python cases/figures_1d.py

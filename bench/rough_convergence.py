@@ -615,6 +615,12 @@ def figure(runs: list, scans: list, out: Path) -> None:
     ae.set_ylim(lo, hi + 0.8 * (hi - lo))
     ae.legend(fontsize=7, ncol=2, loc="upper center")
     ag.axhline(0.01, color="k", lw=0.8, ls=":")
+    save_figure(fig, out)
+
+
+def save_figure(fig, out: Path) -> None:
+    """Lay out ``fig``, write it to ``out`` (its folder made if missing) and close it."""
+    import matplotlib.pyplot as plt
     fig.tight_layout()
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out, dpi=110)

@@ -258,10 +258,7 @@ def figure(rows: list, out: Path) -> None:
     axes[0][0].set_ylabel("μ_a (10⁻⁴)")
     fig.suptitle("μ_a of the balanced states at the tolerances of the sample (grey) and their "
                  "mean ± two standard errors", fontsize=10)
-    fig.tight_layout()
-    out.parent.mkdir(exist_ok=True)
-    fig.savefig(out, dpi=110)
-    plt.close(fig)
+    rc.save_figure(fig, out)
 
 
 def _order(name: str) -> int:

@@ -387,10 +387,7 @@ def figure(groups: dict, out: Path) -> None:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
     axes[0][0].set_ylabel("μ_a × 10⁴")
-    fig.tight_layout()
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out, dpi=110)
-    plt.close(fig)
+    rc.save_figure(fig, out)
 
 
 def main(argv=None):

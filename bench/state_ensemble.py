@@ -84,18 +84,31 @@ FINDINGS = (
     "(undecided), while G1 and G2 agree within 0.8 %. 256² has 1.02 cells per relaxation "
     "length vτ, below the two the package asks for (the plausibility warning on "
     "`motion.speed`; on the sinusoid μ_a is 7 % off at one cell, docs/performance.md): μ_a,"
-    " a difference a tenth of Δγ, shows it first. 512² against 1024² on those states is not"
-    " measured (the direct path takes 4227 CPU-s at 1024², most of it in the unloading "
-    "step).",
+    " a difference a tenth of Δγ, shows it first.",
+    "- **512² → 1024² after the direct unloading step: not converged.** Two tolerances at "
+    "1024² (0.5 and 0.45 cell; 3128 and 3450 CPU-s per path, most of it in the unloading "
+    "step's ~400 front iterations, docs/performance.md, \"Anatomy of the front iteration\"):"
+    " the unloaded μ_a reads 2.447 and 2.504 × 10⁻⁴ against the 512² mean 2.670, "
+    "+7.9 ± 1.3 %: it fails the 5 % line (two 1024² states: their spread, 1.6 %, is that of "
+    "the eight 512² ones, 1.7 %); G1, G2 and area within 0.5 %, μ +2.1 ± 1.3 % (undecided). "
+    "At 3e4 Pa μ_a is −6.1 ± 1.6 % (undecided), the loading state +1.6 ± 0.9 % (holds, ten "
+    "1024² states). The unloaded means fall monotonically with N (2.99, 2.67, 2.48 × 10⁻⁴ "
+    "at 256²-1024²: steps 0.32 and 0.20, an observed order of 0.7), the 3e4 Pa ones rise "
+    "(1.14, 1.22, 1.30: steps 0.08 and 0.08); neither limit is bracketed yet. From 2 to 4 "
+    "cells per vτ the unloaded μ_a still moves by twice its "
+    "sampling spread; whether 8 cells would agree with 4, or the long crawl of the 1024² "
+    "unloading front reaches states of its own, is not measured.",
     "- **The loading history moves the mean.** Loaded from 2 kPa in 500 Pa steps, each "
     "state from the last, the 512² states at 1e4 Pa read μ_a 2.093 × 10⁻⁴, 3.0 % below the "
     "one-step states (area −1.6 %; at 256², 15.6 % below): the set of balanced states a "
     "load reaches depends on how it was reached, as the adhesion hysteresis of a rough "
     "contact allows. Compare grids along one path.",
-    "- **For a user.** For μ_a on a rough surface to a few per cent: resolve vτ with two "
-    "cells or more, fix the load path, and average over the states that several tolerances "
-    "reach (`solver.front_tol` ≤ 0.5 cells; eight give a standard error of about 1 % here)."
-    " A single state is defined to the sample's standard deviation, 2-4 % on this case.",
+    "- **For a user.** For μ_a on a rough surface to a few per cent on loading: resolve vτ "
+    "with two cells or more, fix the load path, and average over the states that several "
+    "tolerances reach (`solver.front_tol` ≤ 0.5 cells; eight give a standard error of about"
+    " 1 % here). After unloading, μ_a moves by 8 % from 2 to 4 cells per vτ on this case: "
+    "quote it to about 10 %, or show its refinement. A single state is defined to the "
+    "sample's standard deviation, 2-4 % on this case.",
 )
 
 

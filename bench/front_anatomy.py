@@ -132,7 +132,9 @@ def summary(log: list) -> dict:
         tail_nucleated_leading=sum(e["leading"] for e in tnu),
         tail_removed=sum(e["remove"] for e in tex),
         tail_removed_leading=sum(e["remove_leading"] for e in tex),
-        tail_net=(tail[-1]["cells"] - tail[0]["cells"]) if tail else 0,
+        # the cells in contact after the tail less those before its first test's move
+        tail_net=(tail[-1]["cells"] - tail[0]["cells"] + tail[0]["add"] - tail[0]["remove"])
+        if tail else 0,
         cells=log[-1]["cells"] if log else 0)
 
 
@@ -172,7 +174,7 @@ def table(rows: list) -> str:
     lines = [head, "|" + "---|" * 11]
     for r in sorted(rows, key=lambda r: (r["N"], r["front_tol"] or 0.5)):
         for k, st in enumerate(r["states"]):
-            s = st["summary"]
+            s = summary(st["log"])  # from the log: the summary's rules as they are now
             lines.append(
                 f"| {r['N']}² | {r['front_tol'] or 0.5:g} | {st['name']} | {r['iterations'][k]}"
                 f" | {s['exact']} / {s['nucleation']} | {s['near_at']} | {s['tail_exact']} "

@@ -35,9 +35,10 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 import rough_convergence as rc  # noqa: E402  (bench/, beside this script)
-from scipy import ndimage  # noqa: E402
 
 from spectralbem import front_iteration as fi  # noqa: E402
+from spectralbem.bands import outward_normal  # noqa: E402
+from spectralbem.io import write_text  # noqa: E402
 
 OUT = Path(__file__).with_name("front_anatomy.json")
 FIGURE = rc.ROOT / "docs" / "figures" / "front_anatomy.png"
@@ -47,12 +48,13 @@ NEAR = 0.99
 
 
 def leading(mask: np.ndarray, cells: np.ndarray) -> int:
-    """How many of ``cells`` lie on the leading side of the mask's front (v̂·n > 0, v̂ = x̂,
-    n the outward normal: minus the gradient of the indicator smoothed over two cells)."""
+    """How many of ``cells`` lie on the leading side of the mask's front: v̂·n ≥ 0 with the
+    solver's outward normal n (bands.outward_normal) and its split of the front
+    (bands.colours); v̂ = x̂, the case's sliding direction."""
     if not cells.any():
         return 0
-    gx = ndimage.gaussian_filter(mask.astype(float), sigma=2.0, order=(1, 0), mode="wrap")
-    return int(np.count_nonzero(-gx[cells] > 0))
+    nx, _ = outward_normal(mask, (1.0, 1.0))  # square cells: the direction needs no h
+    return int(np.count_nonzero(nx[cells] >= 0))
 
 
 class Recorder:
@@ -148,7 +150,7 @@ def run(n: int, front_tol: float | None) -> dict:
         raise RuntimeError(f"recorded {len(rec.states)} front iterations for {len(its)} "
                            "states: the instrumentation no longer matches FrontIteration")
     return dict(N=n, front_tol=front_tol, cpu=cpu, iterations=its,
-                states=[dict(name=name, summary=summary(log), log=log)
+                states=[dict(name=name, log=log)
                         for name, log in zip(NAMES, rec.states, strict=True)],
                 date=time.strftime("%Y-%m-%d"))
 
@@ -158,9 +160,7 @@ def _load() -> list:
 
 
 def _save(rows: list) -> None:
-    tmp = OUT.with_suffix(".tmp")
-    tmp.write_text(json.dumps({"rows": rows}, indent=1))
-    tmp.replace(OUT)
+    write_text(OUT, json.dumps({"rows": rows}, indent=1))
 
 
 def _share(part: int, whole: int) -> str:
@@ -174,7 +174,7 @@ def table(rows: list) -> str:
     lines = [head, "|" + "---|" * 11]
     for r in sorted(rows, key=lambda r: (r["N"], r["front_tol"] or 0.5)):
         for k, st in enumerate(r["states"]):
-            s = summary(st["log"])  # from the log: the summary's rules as they are now
+            s = summary(st["log"])
             lines.append(
                 f"| {r['N']}² | {r['front_tol'] or 0.5:g} | {st['name']} | {r['iterations'][k]}"
                 f" | {s['exact']} / {s['nucleation']} | {s['near_at']} | {s['tail_exact']} "
@@ -202,7 +202,7 @@ def figure(rows: list, out: Path = FIGURE) -> None:
                     "-", color=c, lw=1.2, label=f"{r['N']}²: moved by the balance")
             ax.plot([e["it"] for e in nu], [e["new"] for e in nu], ":", color=c, lw=1.2,
                     label=f"{r['N']}²: nucleated")
-            near = r["states"][k]["summary"]["near_at"]
+            near = summary(log)["near_at"]
             if near is not None:
                 ax.axvline(near, color=c, lw=0.6, alpha=0.6)
         ax.set_yscale("log")

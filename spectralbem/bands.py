@@ -12,7 +12,7 @@ import numpy as np
 from scipy import ndimage
 
 __all__ = ["Bands", "bands", "bands_reach", "band_split", "band_weights", "colours",
-           "front_cells"]
+           "front_cells", "outward_normal"]
 
 
 def _wrap_edt(free: np.ndarray, sampling, pad: int, indices: bool = True):
@@ -73,24 +73,30 @@ class Bands:
 
     @property
     def normal(self) -> tuple:
-        """Outward unit normal (nx, ny) of A: minus the gradient of its indicator smoothed
-        by a Gaussian of σ = 2 cells, as the convolution with the Gaussian's derivative
-        (no bias in angle: on straight digital fronts at 0-79° to the grid the front cells'
-        mean angle is within 0.06° of the normal's, where centred differences of the
-        smoothed indicator turned it by up to 0.6° towards the nearer axis); on the whole
-        grid (meaningful on the front cells), computed on demand (two N² arrays)."""
-        hx, hy = self.spacing
-        gx = ndimage.gaussian_filter(self.mask, sigma=2.0, order=(1, 0), mode="wrap",
-                                     output=np.float64)
-        gy = ndimage.gaussian_filter(self.mask, sigma=2.0, order=(0, 1), mode="wrap",
-                                     output=np.float64)
-        gx /= hx
-        gy /= hy
-        nrm = np.hypot(gx, gy)
-        nrm[nrm == 0] = 1.0
-        gx /= -nrm
-        gy /= -nrm
-        return gx, gy
+        """Outward unit normal (nx, ny) of A (:func:`outward_normal`), on the whole grid
+        (meaningful on the front cells), computed on demand (two N² arrays)."""
+        return outward_normal(self.mask, self.spacing)
+
+
+def outward_normal(mask: np.ndarray, spacing: tuple) -> tuple:
+    """Outward unit normal (nx, ny) of the contact mask: minus the gradient of its indicator
+    smoothed by a Gaussian of σ = 2 cells, as the convolution with the Gaussian's derivative
+    (no bias in angle: on straight digital fronts at 0-79° to the grid the front cells'
+    mean angle is within 0.06° of the normal's, where centred differences of the smoothed
+    indicator turned it by up to 0.6° towards the nearer axis); on the whole grid
+    (meaningful on the front cells).  ``spacing``: (hx, hy)."""
+    hx, hy = spacing
+    gx = ndimage.gaussian_filter(mask, sigma=2.0, order=(1, 0), mode="wrap",
+                                 output=np.float64)
+    gy = ndimage.gaussian_filter(mask, sigma=2.0, order=(0, 1), mode="wrap",
+                                 output=np.float64)
+    gx /= hx
+    gy /= hy
+    nrm = np.hypot(gx, gy)
+    nrm[nrm == 0] = 1.0
+    gx /= -nrm
+    gy /= -nrm
+    return gx, gy
 
 
 def band_split(a0: float, hx: float, hy: float) -> tuple:
